@@ -1,0 +1,151 @@
+"""The benchmark suite behind ``gaitshift bench``.
+
+Each topic module ``gaitshift.bench.<topic>`` registers functions with :func:`benchmark`. A benchmark
+function takes ``quick: bool`` and returns a list of :class:`Result`. Times come from
+``time.perf_counter`` over many repetitions after a warm-up; we report the median and the 99th
+percentile, and the ratio to a baseline measured in the same run. ``quick`` only checks that every
+benchmark runs (few repetitions); it never judges speed.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import os
+import platform
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+#: Topic modules, in table order.
+TOPICS = ("tvlip", "vhip", "robot", "sim", "slip")
+
+
+@dataclass(frozen=True)
+class Result:
+    """One row of the benchmark table. Times in seconds."""
+
+    operation: str
+    size: str
+    median_s: float
+    p99_s: float
+    repeats: int
+    baseline: str | None = None
+    baseline_median_s: float | None = None
+    paper: str | None = None
+    note: str = ""
+
+    @property
+    def ratio(self) -> float | None:
+        """Baseline median over our median (how many times faster we are)."""
+        if self.baseline_median_s is None or self.median_s <= 0:
+            return None
+        return self.baseline_median_s / self.median_s
+
+    def as_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["ratio"] = self.ratio
+        return d
+
+
+_REGISTRY: list[tuple[str, Callable[[bool], list[Result]]]] = []
+
+
+def benchmark(name: str) -> Callable[[Callable[[bool], list[Result]]], Callable[[bool], list[Result]]]:
+    """Register ``fn(quick) -> list[Result]`` under ``name``."""
+
+    def deco(fn: Callable[[bool], list[Result]]) -> Callable[[bool], list[Result]]:
+        _REGISTRY.append((name, fn))
+        return fn
+
+    return deco
+
+
+def measure(fn: Callable[[], Any], repeats: int, warmup: int = 3) -> np.ndarray:
+    """Wall-clock times of ``repeats`` calls of ``fn`` after ``warmup`` calls, in seconds."""
+    for _ in range(warmup):
+        fn()
+    times = np.empty(repeats)
+    for i in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times[i] = time.perf_counter() - t0
+    return times
+
+
+def timed(operation: str, size: str, fn: Callable[[], Any], repeats: int, *, warmup: int = 3,
+          baseline: tuple[str, Callable[[], Any], int] | None = None, paper: str | None = None,
+          note: str = "") -> Result:
+    """Measure ``fn`` (and optionally a baseline ``(name, fn, repeats)``) and build a :class:`Result`."""
+    t = measure(fn, repeats, warmup)
+    b_name, b_med = None, None
+    if baseline is not None:
+        b_name, b_fn, b_rep = baseline
+        b_med = float(np.median(measure(b_fn, b_rep, warmup=1)))
+    return Result(operation, size, float(np.median(t)), float(np.percentile(t, 99)), repeats,
+                  b_name, b_med, paper, note)
+
+
+def machine() -> dict[str, Any]:
+    """What the numbers were measured on."""
+    cpu = platform.processor() or ""
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next((ln.split(":", 1)[1].strip() for ln in f if ln.startswith("model name")), cpu)
+    except OSError:
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
+            "numpy": np.__version__, "platform": platform.platform()}
+
+
+def run(quick: bool = False, only: list[str] | None = None,
+        progress: Callable[[str], None] | None = None) -> list[Result]:
+    """Run every registered benchmark (or those whose name contains one of ``only``)."""
+    for topic in TOPICS:
+        module = f"{__name__}.{topic}"
+        try:
+            importlib.import_module(module)
+        except ModuleNotFoundError as exc:
+            if exc.name != module:
+                raise
+    results: list[Result] = []
+    for name, fn in _REGISTRY:
+        if only and not any(o in name for o in only):
+            continue
+        if progress:
+            progress(name)
+        results.extend(fn(quick))
+    return results
+
+
+def _fmt_time(s: float | None) -> str:
+    if s is None:
+        return "-"
+    if s < 1e-3:
+        return f"{s * 1e6:.1f} us"
+    if s < 1:
+        return f"{s * 1e3:.2f} ms"
+    return f"{s:.2f} s"
+
+
+def format_table(results: list[Result]) -> str:
+    """A plain-text table: operation, size, median, p99, baseline, ratio, paper."""
+    head = ("operation", "size", "median", "p99", "baseline (median)", "ratio", "paper", "note")
+    rows = [head]
+    for r in results:
+        base = f"{r.baseline} ({_fmt_time(r.baseline_median_s)})" if r.baseline else "-"
+        ratio = f"{r.ratio:.1f}x" if r.ratio is not None else "-"
+        rows.append((r.operation, r.size, _fmt_time(r.median_s), _fmt_time(r.p99_s), base, ratio,
+                     r.paper or "-", r.note))
+    widths = [max(len(str(row[i])) for row in rows) for i in range(len(head))]
+    lines = ["  ".join(str(c).ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def to_json(results: list[Result], quick: bool) -> str:
+    return json.dumps({"machine": machine(), "quick": quick,
+                       "results": [r.as_dict() for r in results]}, indent=2)

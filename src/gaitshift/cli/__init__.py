@@ -1,0 +1,48 @@
+"""Command-line entry point ``gaitshift``.
+
+The CLI only parses arguments, calls the public API and prints results. Each command module below
+registers its commands on :data:`gaitshift.cli.app.app`. User mistakes (:class:`GaitshiftError`,
+click usage errors) end with one line on stderr and exit code 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+import click
+
+from ..errors import GaitshiftError
+from .app import app
+
+#: Command modules, in help order. Each is ``gaitshift.cli.<name>``.
+COMMAND_MODULES = ("core", "online", "robot", "sim", "slip", "bench")
+
+
+def _load_commands() -> None:
+    for name in COMMAND_MODULES:
+        module = f"{__name__}.{name}"
+        try:
+            importlib.import_module(module)
+        except ModuleNotFoundError as exc:  # a command module not written yet
+            if exc.name != module:
+                raise
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run the CLI; exit 2 with a one-line message on bad input."""
+    _load_commands()
+    try:
+        rv = app(args=argv, standalone_mode=False, prog_name="gaitshift")
+    except GaitshiftError as exc:
+        print(f"gaitshift: error: {exc}", file=sys.stderr)
+        sys.exit(2)
+    except click.exceptions.UsageError as exc:
+        msg = exc.format_message().replace("\n", " ")
+        print(f"gaitshift: error: {msg}", file=sys.stderr)
+        sys.exit(2)
+    except click.exceptions.Abort:
+        sys.exit(1)
+    except click.exceptions.Exit as exc:
+        sys.exit(exc.exit_code)
+    sys.exit(rv if isinstance(rv, int) else 0)
