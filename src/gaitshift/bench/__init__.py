@@ -90,15 +90,36 @@ def timed(operation: str, size: str, fn: Callable[[], Any], repeats: int, *, war
 
 
 def machine() -> dict[str, Any]:
-    """What the numbers were measured on."""
+    """What the numbers were measured on (CPU, cores, versions, load average, UTC time)."""
     cpu = platform.processor() or ""
     try:
         with open("/proc/cpuinfo") as f:
             cpu = next((ln.split(":", 1)[1].strip() for ln in f if ln.startswith("model name")), cpu)
     except OSError:
         pass
+    try:
+        import scipy
+
+        scipy_version = scipy.__version__
+    except ImportError:  # pragma: no cover - scipy is a hard dependency
+        scipy_version = None
+    try:
+        load = [round(x, 2) for x in os.getloadavg()]
+    except OSError:  # pragma: no cover - not on every platform
+        load = None
     return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "platform": platform.platform()}
+            "numpy": np.__version__, "scipy": scipy_version, "platform": platform.platform(),
+            "load_avg_1_5_15min": load,
+            "utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+
+
+def machine_line(m: dict[str, Any] | None = None) -> str:
+    """One line naming the machine, e.g. for the head of the table."""
+    m = m or machine()
+    load = m.get("load_avg_1_5_15min")
+    extra = f", load {load[0]:.2f}" if load else ""
+    return (f"machine: {m['cpu']}, {m['cores']} cores, Python {m['python']}, numpy {m['numpy']}, "
+            f"scipy {m.get('scipy')}{extra}, {m.get('utc', '')}")
 
 
 def run(quick: bool = False, only: list[str] | None = None,
@@ -137,7 +158,7 @@ def format_table(results: list[Result]) -> str:
     rows = [head]
     for r in results:
         base = f"{r.baseline} ({_fmt_time(r.baseline_median_s)})" if r.baseline else "-"
-        ratio = f"{r.ratio:.1f}x" if r.ratio is not None else "-"
+        ratio = "-" if r.ratio is None else (f"{r.ratio:.0f}x" if r.ratio >= 100 else f"{r.ratio:.1f}x")
         rows.append((r.operation, r.size, _fmt_time(r.median_s), _fmt_time(r.p99_s), base, ratio,
                      r.paper or "-", r.note))
     widths = [max(len(str(row[i])) for row in rows) for i in range(len(head))]
@@ -146,6 +167,30 @@ def format_table(results: list[Result]) -> str:
     return "\n".join(lines)
 
 
+def format_markdown(results: list[Result]) -> str:
+    """The same table as :func:`format_table` in Markdown (for docs/performance.md)."""
+    head = ("operation", "size", "median", "p99", "repeats", "baseline (median)", "ratio", "paper", "note")
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in results:
+        base = f"{r.baseline} ({_fmt_time(r.baseline_median_s)})" if r.baseline else "-"
+        ratio = "-" if r.ratio is None else (f"{r.ratio:.0f}x" if r.ratio >= 100 else f"{r.ratio:.1f}x")
+        cells = (r.operation, r.size, _fmt_time(r.median_s), _fmt_time(r.p99_s), str(r.repeats), base, ratio,
+                 r.paper or "-", r.note or "")
+        lines.append("| " + " | ".join(str(c).replace("|", "/") for c in cells) + " |")
+    return "\n".join(lines)
+
+
+def results_from_json(text: str) -> tuple[dict[str, Any], list[Result]]:
+    """Inverse of :func:`to_json`: ``(machine, results)``."""
+    data = json.loads(text)
+    fields = Result.__dataclass_fields__
+    return data["machine"], [Result(**{k: v for k, v in d.items() if k in fields}) for d in data["results"]]
+
+
 def to_json(results: list[Result], quick: bool) -> str:
+    """The numbers as JSON: ``{"machine": ..., "quick": ..., "results": [Result.as_dict(), ...]}``."""
+    def clean(d: dict[str, Any]) -> dict[str, Any]:  # never NaN in output files: a missing number is null
+        return {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in d.items()}
+
     return json.dumps({"machine": machine(), "quick": quick,
-                       "results": [r.as_dict() for r in results]}, indent=2)
+                       "results": [clean(r.as_dict()) for r in results]}, indent=2, allow_nan=False)

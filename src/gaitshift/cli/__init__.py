@@ -10,7 +10,10 @@ from __future__ import annotations
 import importlib
 import sys
 
-import click
+try:  # typer >= 0.20 vendors click
+    from typer._click import exceptions as _click_exc
+except ImportError:  # pragma: no cover - older typer depends on click
+    from click import exceptions as _click_exc
 
 from ..errors import GaitshiftError
 from .app import app
@@ -37,12 +40,12 @@ def main(argv: list[str] | None = None) -> None:
     except GaitshiftError as exc:
         print(f"gaitshift: error: {exc}", file=sys.stderr)
         sys.exit(2)
-    except click.exceptions.UsageError as exc:
+    except _click_exc.UsageError as exc:
         msg = exc.format_message().replace("\n", " ")
         print(f"gaitshift: error: {msg}", file=sys.stderr)
         sys.exit(2)
-    except click.exceptions.Abort:
+    except _click_exc.Abort:
         sys.exit(1)
-    except click.exceptions.Exit as exc:
+    except _click_exc.Exit as exc:
         sys.exit(exc.exit_code)
     sys.exit(rv if isinstance(rv, int) else 0)

@@ -1,0 +1,114 @@
+"""Core commands: stiffness, scenarios, plan, plot, demo."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import typer
+
+from ..errors import InputError
+from ..scenario import builtin_names, load_scenario
+from ..trajectory import SUFFIXES, Trajectory
+from .app import app
+
+
+@app.command("stiffness")
+def stiffness_cmd(
+    height: float = typer.Option(..., help="Nominal CoM height h, m."),
+    single_support: float = typer.Option(..., help="Single-support duration tau_SS, s."),
+    double_support: float = typer.Option(..., help="Double-support duration tau_DS, s."),
+    flight: float = typer.Option(..., help="Flight duration tau_F, s."),
+    gravity: float = typer.Option(9.81, help="Gravity g, m/s^2."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with T_w, T_r, v_r, T_t0, T_t1."),
+) -> None:
+    """Stiffness T of the time-varying LIPM for walking, running and transitions (paper 001 §III)."""
+    from ..stiffness import stiffness
+
+    k = stiffness(height, single_support, double_support, flight, gravity)
+    if as_json:
+        typer.echo(json.dumps(k.as_dict()))
+    else:
+        for key, val in k.as_dict().items():
+            unit = "m/s" if key == "v_r" else "s"
+            typer.echo(f"{key:5s} = {val:.6f} {unit}")
+
+
+@app.command("scenarios")
+def scenarios_cmd() -> None:
+    """List the built-in scenarios."""
+    for name in builtin_names():
+        sc = load_scenario(name)
+        typer.echo(f"{name:36s} [{sc.planner}] {sc.description}")
+
+
+def _check_out(out: Path, suffixes=SUFFIXES) -> None:
+    if out.suffix.lower() not in suffixes:
+        raise InputError("--out", str(out), "a file ending in " + ", ".join(suffixes))
+
+
+@app.command("plan")
+def plan_cmd(
+    scenario: str = typer.Argument(..., help="Built-in scenario name or YAML path."),
+    out: Path = typer.Option(..., "--out", help="Output file: .npz, .csv or .json."),
+) -> None:
+    """Plan a scenario and write the trajectory file."""
+    from .. import plan
+
+    _check_out(out)
+    sc = load_scenario(scenario)
+    traj = plan(sc)
+    traj.save(out)
+    m = traj.meta
+    typer.echo(f"planned {sc.name} with {m['planner']}: {traj.t[-1]:.3f} s, {len(traj)} samples at "
+               f"dt={traj.dt:g} s, {len(traj.footsteps)} footholds")
+    if "plan_time_s" in m:
+        typer.echo(f"solve: {m.get('iterations', '?')} Gauss-Newton iterations, {m['plan_time_s'] * 1e3:.2f} ms")
+    typer.echo(f"wrote {out}")
+
+
+@app.command("plot")
+def plot_cmd(
+    file: Path = typer.Argument(..., help="Trajectory file written by `gaitshift plan`."),
+    out: Path = typer.Option(..., "--out", help="Folder for the PNG figures."),
+) -> None:
+    """Write the figures of a planned trajectory as PNGs."""
+    traj = Trajectory.load(file)
+    paths = _figures(traj, out)
+    for p in paths:
+        typer.echo(f"wrote {p}")
+
+
+def _figures(traj: Trajectory, out: Path) -> list[Path]:
+    if traj.meta["planner"] == "vhip":
+        from ..plots.online import write_figures
+    else:
+        from ..plots.tvlip import write_figures  # type: ignore[no-redef]
+    return write_figures(traj, out)
+
+
+DEMO_SCENARIO = "paper001-table2-walk-run-walk"
+
+
+@app.command("demo")
+def demo_cmd(
+    out: Path = typer.Option(Path("out/demo"), "--out", help="Output folder."),
+    video: bool = typer.Option(True, help="Also render the whole-body video on the G1 when the robot layer is installed."),
+) -> None:
+    """The main job on a built-in default: plan walk-run-walk, write its file and figures."""
+    from .. import plan
+
+    out.mkdir(parents=True, exist_ok=True)
+    sc = load_scenario(DEMO_SCENARIO)
+    traj = plan(sc)
+    path = traj.save(out / "walk_run_walk.npz")
+    typer.echo(f"planned {DEMO_SCENARIO}: {traj.t[-1]:.2f} s, {len(traj.footsteps)} footholds -> {path}")
+    for p in _figures(traj, out):
+        typer.echo(f"wrote {p}")
+    for hook in DEMO_HOOKS:
+        hook(out, video)
+
+
+#: Further demo steps registered by optional layers (whole-body video, simulation): f(out, video).
+DEMO_HOOKS: list = []

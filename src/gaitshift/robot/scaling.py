@@ -1,0 +1,113 @@
+"""Scale a paper scenario to a robot.
+
+The papers plan for life-size robots (paper 001: Kaleido, nominal CoM height h = 0.95 m). A smaller
+robot walks the same gait when every length scales with its legs. The rule:
+
+1. **CoM height.** h' = the robot's nominal CoM height (``RobotConfig.com_height``: whole-body CoM
+   above the soles in its standing pose, whose knee bend keeps the leg clear of the straight-knee
+   singularity; for the G1 h' = 0.655 m with a leg length of 0.692 m). The scale factor is
+   lambda = h' / h.
+2. **Lengths along the path** scale with lambda: stride (``profile.max_stride`` and explicit
+   footholds), step rise, swing-foot clearance, the ZMP margin and vertical ZMP band, and the
+   reachability limits (``limits``). Geometric similarity keeps the leg angles of the paper's gait.
+3. **Feet** are the robot's: ``foot.size`` = the sole rectangle of the config, and the lateral step
+   width = the foot separation of the standing pose (the robot's hip width, not a scaled copy of the
+   paper's, so that the legs stay parallel).
+4. **Timing is kept.** Phase durations are not scaled, so the stiffness is not scaled either: the
+   planner recomputes T_w = sqrt(h'/g) and T_r, T_t0, T_t1 (paper 001 eqs. 9-14) from the new height.
+   (Froude similarity would instead scale durations by sqrt(lambda) and every T with them; we keep the
+   paper's rhythm, which makes the scaled gait slower in Froude number v^2/(g h) by the factor lambda.)
+
+Angles (yaw, yaw rate), gravity and the sampling step are unchanged.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..scenario import load_scenario
+from .config import RobotConfig, load_robot
+
+#: Dotted keys multiplied by lambda, per planner. Missing keys are skipped.
+LENGTH_KEYS: dict[str, tuple[str, ...]] = {
+    "tvlip": ("profile.max_stride", "profile.step_height", "limits.max_stride", "limits.max_step_height",
+              "swing_height", "foot.zmp_margin", "foot.zmp_z"),
+    "vhip": ("profile.max_stride", "profile.step_height", "limits.max_stride", "limits.max_step_height",
+             "swing_height", "foot.zmp_margin", "foot.zmp_z", "stride", "max_stride", "step_length",
+             "step_height", "leg_length", "rest_length"),
+}
+#: Dotted keys whose value is a speed (m/s) of a gait with unchanged timing: scaled by lambda.
+SPEED_KEYS = ("command.speeds", "command.speed", "speeds", "speed", "max_speed", "velocity", "velocities")
+
+
+def scale_factor(scenario: Any, robot: "str | Path | RobotConfig") -> float:
+    """lambda = robot nominal CoM height / scenario CoM height (rule 1 of the module docstring)."""
+    robot = load_robot(robot)
+    return robot.com_height / float(scenario.height)
+
+
+def scale_scenario(scenario: Any, robot: "str | Path | RobotConfig", name: str | None = None) -> Any:
+    """The scenario (object, built-in name or path) scaled to ``robot`` by the rule of this module.
+
+    Returns a validated scenario of the same planner, named ``name`` (default ``<robot>-<name>``).
+    """
+    if not hasattr(scenario, "planner"):
+        scenario = load_scenario(scenario)
+    robot = load_robot(robot)
+    lam = scale_factor(scenario, robot)
+    data = scenario.model_dump(mode="python")
+    data["height"] = robot.com_height
+    for key in LENGTH_KEYS.get(scenario.planner, ()):
+        _scale_path(data, key, lam)
+    for key in SPEED_KEYS:
+        _scale_path(data, key, lam)
+    if isinstance(data.get("foot"), dict) and "size" in data["foot"]:
+        data["foot"]["size"] = list(robot.sole_size)
+    if isinstance(data.get("profile"), dict) and "step_width" in data["profile"]:
+        data["profile"]["step_width"] = robot.foot_separation
+    if data.get("footsteps"):
+        data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
+    data["name"] = name or f"{robot.name}-{scenario.name}"
+    desc = data.get("description", "")
+    data["description"] = (f"{desc} -- scaled to {robot.name} (lambda = {lam:.4f}: h = {robot.com_height:.4f} m, "
+                           f"lengths x lambda, robot soles and foot separation, timing kept)").strip(" -")
+    return load_scenario(data)
+
+
+def _scale_path(data: dict[str, Any], dotted: str, lam: float) -> None:
+    *parents, leaf = dotted.split(".")
+    node: Any = data
+    for p in parents:
+        if not isinstance(node, dict) or not isinstance(node.get(p), dict):
+            return
+        node = node[p]
+    if not isinstance(node, dict) or leaf not in node or node[leaf] is None:
+        return
+    v = node[leaf]
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        node[leaf] = v * lam
+    elif isinstance(v, (list, tuple)) and all(isinstance(x, (int, float)) for x in v):
+        node[leaf] = [x * lam for x in v]
+    else:  # pragma: no cover - the schemas hold numbers or lists of numbers at these keys
+        raise InputError(dotted, v, "a length (number or list of numbers) to scale")
+
+
+def scenario_yaml(scenario: Any, header: str = "") -> str:
+    """YAML text of a scenario (for writing built-in scaled scenarios), floats to 6 significant digits."""
+    import yaml
+
+    data = scenario.model_dump(mode="json")
+
+    def _round(v: Any) -> Any:
+        if isinstance(v, float):
+            return float(f"{v:.6g}")
+        if isinstance(v, list):
+            return [_round(x) for x in v]
+        if isinstance(v, dict):
+            return {k: _round(x) for k, x in v.items() if x is not None}
+        return v
+
+    body = yaml.safe_dump(_round(data), sort_keys=False, default_flow_style=None, width=110)
+    return "".join(f"# {line}\n" for line in header.splitlines()) + body

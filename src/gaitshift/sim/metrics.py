@@ -1,0 +1,145 @@
+"""Summary metrics of a closed-loop run (the table of ``gaitshift simulate``).
+
+* ``fell``, ``fall_time`` and ``steps_completed`` (planned touchdowns reached before the fall);
+* CoM tracking RMS per gait ("walk", "run", "stand") and axis, m;
+* flight: per planned flight phase, the planned duration and the longest interval with both soles
+  measured off the floor that overlaps it (+/- 0.1 s); ``flight_ratio`` is the mean achieved/planned
+  over the constant-speed running steps (stride equal to the plan's largest stride), or over all
+  running steps when none is constant;
+* speed error two steps after each command: for every change of ``command_vel`` (online plans), the
+  mean measured forward CoM speed between the 2nd and 3rd touchdowns after it, minus the command;
+* peak |tau| / tau_max over all joints and ticks;
+* real-time factor = simulated time / wall time.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..trajectory import FLIGHT, Trajectory
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """[start, stop) index pairs of the True runs of a boolean array."""
+    m = np.concatenate([[False], mask, [False]]).astype(np.int8)
+    d = np.diff(m)
+    return list(zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1)))
+
+
+def summarize(result: Any, traj: Trajectory, plant: Any) -> dict[str, Any]:
+    from .loop import step_labels  # noqa: PLC0415
+
+    a = result.arrays
+    out: dict[str, Any] = {"fell": bool(result.fell), "fall_time": float(result.fall_time),
+                           "fall_reason": result.fall_reason}
+    n = len(a["t"])
+    if n == 0:
+        return out
+    idx = a["plan_index"]
+    labels = step_labels(traj)[idx]
+    err = a["com_pos"] - a["com_ref"]
+    rms: dict[str, list[float]] = {}
+    for g in ("stand", "walk", "run"):
+        sel = labels == g
+        if np.any(sel):
+            rms[g] = np.sqrt(np.mean(err[sel] ** 2, axis=0)).tolist()
+    out["com_rms"] = rms
+    out["com_max_abs"] = np.max(np.abs(err), axis=0).tolist()
+
+    # steps completed: planned touchdowns before the end of the run
+    c = traj.contact
+    land = np.flatnonzero(np.any(~c[:-1] & c[1:], axis=1)) + 1
+    t_end = float(a["t"][-1])
+    out["steps_planned"] = int(len(land))
+    out["steps_completed"] = int(np.sum(traj.t[land] <= t_end))
+
+    # flight
+    dtp = traj.dt
+    flights = _runs(traj.phase == FLIGHT)
+    meas_air = ~np.any(a["contact"], axis=1)
+    tt = a["t"]
+    dt = float(tt[1] - tt[0]) if n > 1 else 0.0
+    air_runs = [(tt[s], tt[e - 1] + dt) for s, e in _runs(meas_air)]
+    fs = traj.footsteps
+    stride = np.linalg.norm(np.diff(fs[:, :2], axis=0), axis=1) if len(fs) > 1 else np.zeros(0)
+    per = []
+    for s, e in flights:
+        t0, t1 = traj.t[s], traj.t[min(e, len(traj) - 1)]
+        if t1 > t_end:
+            break
+        best = 0.0
+        for a0, a1 in air_runs:
+            if a1 >= t0 - 0.1 and a0 <= t1 + 0.1:
+                best = max(best, a1 - a0)
+        # stride of the step that lands after this flight
+        k = int(np.sum(traj.t[land] <= t1))
+        st = float(stride[k]) if k < len(stride) else 0.0
+        per.append((t1 - t0, best, st))
+    if per:
+        arr = np.array(per)
+        const = np.isclose(arr[:, 2], arr[:, 2].max(), atol=0.02)
+        use = arr[const] if np.any(const) else arr
+        out["flight_planned_mean"] = float(use[:, 0].mean())
+        out["flight_achieved_mean"] = float(use[:, 1].mean())
+        out["flight_ratio"] = float(use[:, 1].mean() / use[:, 0].mean())
+        out["flight_all"] = arr.tolist()
+
+    # speed error two steps after each command
+    cmd = traj.command_vel
+    errs = []
+    if np.any(np.isfinite(cmd)):
+        valid = np.isfinite(cmd[:, 0])
+        change = np.flatnonzero(valid[1:] & (~valid[:-1] | (np.abs(np.diff(cmd[:, 0])) > 1e-9))) + 1
+        if valid[0]:
+            change = np.concatenate([[0], change])
+        for ic in change:
+            tl = traj.t[land[land > ic]]
+            if len(tl) < 3 or tl[2] > t_end:
+                continue
+            sel = (tt >= tl[1]) & (tt < tl[2])
+            if np.any(sel):
+                v = float(np.mean(a["com_vel"][sel, 0]))
+                errs.append([float(traj.t[ic]), float(cmd[ic, 0]), v, v - float(cmd[ic, 0])])
+    out["speed_errors"] = errs
+    out["speed_error_max"] = float(max((abs(e[3]) for e in errs), default=math.nan))
+
+    out["peak_torque_fraction"] = float(np.max(np.abs(a["tau"]) / plant.torque_limit))
+    out["real_time_factor"] = float(result.meta["real_time_factor"])
+    out["qp_failures"] = int(np.sum(~a["qp_ok"]))
+    # top speed held: mean forward CoM speed over the fastest window of 10 planned steps completed
+    out["mean_forward_speed_max"] = float(np.max(_step_mean_speed(a, traj, land, t_end), initial=0.0))
+    return out
+
+
+def _step_mean_speed(a, traj, land, t_end) -> np.ndarray:
+    tl = traj.t[land]
+    tl = tl[tl <= t_end]
+    if len(tl) < 2:
+        return np.zeros(0)
+    x = np.interp(tl, a["t"], a["com_pos"][:, 0])
+    return np.diff(x) / np.diff(tl)
+
+
+def format_metrics(metrics: dict[str, Any]) -> str:
+    """The summary as a two-column text table."""
+    rows = [("fell", "yes" if metrics["fell"] else "no")]
+    if metrics["fell"]:
+        rows.append(("fall time (s)", f"{metrics['fall_time']:.3f}  ({metrics.get('fall_reason', '')})"))
+    rows.append(("steps completed", f"{metrics.get('steps_completed', 0)} / {metrics.get('steps_planned', 0)}"))
+    for g, r in metrics.get("com_rms", {}).items():
+        rows.append((f"CoM RMS {g} x/y/z (cm)", " / ".join(f"{100 * v:.2f}" for v in r)))
+    if "flight_ratio" in metrics:
+        rows.append(("flight planned / achieved (s)",
+                     f"{metrics['flight_planned_mean']:.3f} / {metrics['flight_achieved_mean']:.3f} "
+                     f"(ratio {metrics['flight_ratio']:.2f})"))
+    for t, c, v, e in metrics.get("speed_errors", []):
+        rows.append((f"speed @cmd t={t:.2f}s", f"cmd {c:.2f}  meas {v:.2f}  err {e:+.3f} m/s"))
+    rows.append(("peak torque / limit", f"{metrics['peak_torque_fraction']:.2f}"))
+    rows.append(("max step speed (m/s)", f"{metrics.get('mean_forward_speed_max', 0):.2f}"))
+    rows.append(("QP failures", str(metrics.get("qp_failures", 0))))
+    rows.append(("real-time factor", f"{metrics['real_time_factor']:.2f}"))
+    w = max(len(r[0]) for r in rows)
+    return "\n".join(f"{k.ljust(w)}  {v}" for k, v in rows)

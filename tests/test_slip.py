@@ -1,0 +1,190 @@
+"""3D-SLIP baseline and the Fig. 9 comparison of paper 001 §IV-C.
+
+Oracles are physical identities recomputed here independently of gaitshift.models.slip: the flight is
+a closed-form parabola, the stance is re-integrated with our own spring law and a different integrator
+(Radau), the energy is recomputed from its definition, and the TV-LIPM samples are checked against
+eq. (1) by finite differences.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from gaitshift.errors import InfeasibleError, InputError
+from gaitshift.models import slip
+from gaitshift.slip_compare import compare, tvlip_half_cycle
+
+P = slip.SlipParams()
+
+
+@pytest.fixture(scope="module")
+def gait() -> slip.PeriodicGait:
+    return slip.periodic_half_cycle(3.5, flight=0.2, step_width=0.1)
+
+
+@pytest.fixture(scope="module")
+def cmp():
+    return compare(3.5, slip_repeats=1, tvlip_repeats=3)
+
+
+def _independent_half_cycle(state0, theta, phi, params=P):
+    """TOF -> TOF with analytic flights and a Radau stance on our own spring law."""
+    g, k, m, l0 = params.gravity, params.stiffness, params.mass, params.leg_length
+    s0 = np.asarray(state0, float)
+    d = np.array([math.sin(theta) * math.cos(phi), math.sin(phi), -math.cos(theta) * math.cos(phi)])
+    h_td = -l0 * d[2]
+    t1 = math.sqrt(2 * (s0[2] - h_td) / g)                      # fall from TOF to the touchdown height
+    p_td = s0[:3] + s0[3:] * t1 - 0.5 * g * t1**2 * np.array([0, 0, 1.0])
+    v_td = s0[3:] - g * t1 * np.array([0, 0, 1.0])
+    foot = p_td + l0 * d
+
+    def rhs(t, s):
+        r = s[:3] - foot
+        L = np.linalg.norm(r)
+        return np.concatenate([s[3:], k / m * (l0 - L) * r / L - np.array([0, 0, g])])
+
+    def lift(t, s):
+        return np.linalg.norm(s[:3] - foot) - l0
+
+    lift.terminal, lift.direction = True, 1
+    st = solve_ivp(rhs, (0, 2.0), np.concatenate([p_td, v_td]), method="Radau", rtol=1e-12, atol=1e-13,
+                   events=lift)
+    s_lo = st.y_events[0][0]
+    t2 = s_lo[5] / g                                             # rise to the next TOF
+    p1 = s_lo[:3] + s_lo[3:] * t2 - 0.5 * g * t2**2 * np.array([0, 0, 1.0])
+    v1 = s_lo[3:] - g * t2 * np.array([0, 0, 1.0])
+    return np.concatenate([p1, v1]), foot, (t1, st.t_events[0][0], t2)
+
+
+def test_half_cycle_is_periodic_after_mirror_map(gait):
+    hc = gait.half_cycle
+    s0 = hc.state0
+    s1, foot, (t1, ts, t2) = _independent_half_cycle(s0, hc.theta, hc.phi)
+    # the mirror map about the mid-line y = 0: (x, y, z, vx, vy, vz) -> (x, -y, z, vx, -vy, vz)
+    mirrored = s1 * np.array([1, -1, 1, 1, -1, 1])
+    np.testing.assert_allclose(mirrored[1:], s0[1:], atol=1e-6)
+    assert abs(s0[5]) < 1e-12 and abs(s0[3] - 3.5) < 1e-12
+    # the module's own event times and foot agree with the independent integration
+    np.testing.assert_allclose([hc.t_touchdown, hc.stance_duration, hc.flight_after], [t1, ts, t2], atol=1e-7)
+    np.testing.assert_allclose(hc.foot, foot, atol=1e-7)
+    assert abs(foot[1] + 0.1) < 1e-6                           # step width w = 0.1 m to the right
+    assert abs(hc.flight_duration - 0.2) < 1e-6
+
+
+def test_full_cycle_on_the_other_foot_returns_to_the_start(gait):
+    """The mirrored half cycle (left foot: phi -> -phi) closes the stride: a true period of two steps."""
+    hc = gait.half_cycle
+    s1, _, _ = _independent_half_cycle(hc.state0, hc.theta, hc.phi)
+    s2, foot2, _ = _independent_half_cycle(s1, hc.theta, -hc.phi)
+    np.testing.assert_allclose(s2[1:], hc.state0[1:], atol=1e-6)
+    assert abs(foot2[1] - 0.1) < 1e-6
+    step = s1[0] - hc.state0[0]
+    assert abs((s2[0] - hc.state0[0]) - 2 * step) < 1e-6
+
+
+def test_slip_integration_conserves_energy(gait):
+    hc = gait.half_cycle
+    g, k, m, l0 = P.gravity, P.stiffness, P.mass, P.leg_length
+    t = np.linspace(0.0, hc.t_end, 2001)
+    s = hc.sample(t)
+    L = np.linalg.norm(s[:, :3] - hc.foot, axis=1)
+    in_stance = (t > hc.t_touchdown) & (t < hc.t_liftoff)
+    spring = np.where(in_stance, 0.5 * k * (l0 - L) ** 2, 0.0)
+    E = 0.5 * m * np.sum(s[:, 3:] ** 2, axis=1) + m * g * s[:, 2] + spring
+    assert np.max(np.abs(E - E[0])) / abs(E[0]) < 1e-6
+    # the leg really is compressed in stance (L < l0) and the spring carries energy
+    assert np.all(L[in_stance] < l0) and spring.max() > 0.05 * E[0]
+    np.testing.assert_allclose(slip.energy(P, s[in_stance], hc.foot), E[in_stance], rtol=1e-12)
+
+
+def test_flight_is_ballistic(gait):
+    hc = gait.half_cycle
+    t = np.linspace(0.0, hc.t_touchdown, 50)
+    s = hc.sample(t)
+    expect = hc.state0[:3] + np.outer(t, hc.state0[3:]) - 0.5 * P.gravity * np.outer(t**2, [0, 0, 1])
+    np.testing.assert_allclose(s[:, :3], expect, atol=1e-9)
+
+
+def test_touchdown_happens_at_the_leg_angle_geometry(gait):
+    hc = gait.half_cycle
+    d = slip.leg_direction(hc.theta, hc.phi)
+    assert abs(np.linalg.norm(d) - 1) < 1e-15
+    np.testing.assert_allclose(hc.touchdown[:3] + P.leg_length * d, hc.foot, atol=1e-9)
+    assert abs(np.linalg.norm(hc.liftoff[:3] - hc.foot) - P.leg_length) < 1e-9
+    assert hc.touchdown[5] < 0 < hc.liftoff[5]
+
+
+def test_tvlip_deviation_is_small_vs_half_cycle_displacement(cmp):
+    dx = cmp.displacement[0]
+    assert 1.2 < dx < 1.6                                       # 3.5 m/s over about 0.4 s
+    # x and y deviations: a few percent of the forward displacement at most (measured: 2.1 %, 0.2 %)
+    assert cmp.max_deviation[0] < 0.04 * dx
+    assert cmp.max_deviation[1] < 0.01 * dx
+    # the first flight is the same parabola in both models (same TOF state)
+    first = cmp.t < cmp.gait.half_cycle.t_touchdown
+    np.testing.assert_allclose(cmp.tvlip_pos[first], cmp.slip_pos[first], atol=1e-9)
+
+
+def test_tvlip_vertical_is_periodic_with_slip_timings(cmp):
+    """T_r from eqs. (9)-(11) on the SLIP's h, tau_SS, tau_F returns the TV-LIPM CoM to the TOF height."""
+    hc = cmp.gait.half_cycle
+    assert abs(cmp.tvlip_pos[-1, 2] - hc.state0[2]) < 1e-9
+    assert abs(cmp.tvlip_end_defect[3]) < 1e-9                 # v_z = 0 at the TV-LIPM's TOF too
+    # v_r is the touchdown vertical velocity: -g tau_F / 2, which is also the SLIP's (-g t_touchdown)
+    assert abs(cmp.v_r + P.gravity * cmp.flight / 2) < 1e-9
+    assert abs(cmp.v_r - hc.touchdown[5]) < 1e-6
+
+
+def test_tvlip_stance_satisfies_eq1_by_finite_differences(cmp):
+    hc = cmp.gait.half_cycle
+    t0, t1 = hc.t_touchdown, hc.t_liftoff
+    t = np.linspace(t0 + 0.01, t1 - 0.01, 7)
+    eps = 1e-4
+    tt = np.concatenate([t - eps, t, t + eps])
+    p, _ = tvlip_half_cycle(hc.state0[:3], hc.state0[3:], hc.foot, t0, t1, cmp.T_r, tt, P.gravity)
+    pm, pc, pp = p[:7], p[7:14], p[14:]
+    acc = (pp - 2 * pc + pm) / eps**2
+    expect = (pc - hc.foot) / cmp.T_r**2 - np.array([0, 0, P.gravity])
+    np.testing.assert_allclose(acc, expect, atol=1e-4)
+
+
+def test_timings_are_measured_in_the_same_run(cmp):
+    d = cmp.as_dict()
+    tm = d["timing"]
+    assert tm["slip_optimise_and_integrate_s"] > 0 and tm["tvlip_T_r_solve_s"] > 0
+    assert tm["ratio"] == pytest.approx(tm["slip_optimise_and_integrate_s"] / tm["tvlip_T_r_solve_s"])
+    json.dumps(d, allow_nan=False)
+
+
+def test_bad_inputs_raise_gaitshift_errors():
+    with pytest.raises(InputError):
+        slip.periodic_half_cycle(-1.0)
+    with pytest.raises(InputError):
+        slip.periodic_half_cycle(3.5, flight=0.0)
+    with pytest.raises(InputError):
+        slip.SlipParams(stiffness=-5.0)
+    with pytest.raises(InfeasibleError):
+        slip.simulate_half_cycle(P, [0, 0, 0.5, 3.0, 0, 0], 0.3, 0.0)   # TOF below the touchdown height
+
+
+def test_cli_compare_slip_writes_figure_and_json(tmp_path, capsys):
+    from gaitshift.cli import main
+
+    with pytest.raises(SystemExit) as ex:
+        main(["compare-slip", "--out", str(tmp_path / "o"), "--repeats", "1"])
+    assert ex.value.code == 0
+    data = json.loads((tmp_path / "o" / "slip_compare.json").read_text())
+    assert set(data["max_deviation_m"]) == {"x", "y", "z"}
+    assert (tmp_path / "o" / "fig9_slip.png").stat().st_size > 10_000
+    with pytest.raises(SystemExit) as ex:
+        main(["compare-slip", "--out", str(tmp_path / "bad"), "--speed", "0"])
+    assert ex.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("gaitshift: error:")
+    assert not (tmp_path / "bad").exists()
+
