@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from gaitshift.errors import InfeasibleError, InputError
@@ -188,3 +190,37 @@ def test_cli_compare_slip_writes_figure_and_json(tmp_path, capsys):
     assert len(err) == 1 and err[0].startswith("gaitshift: error:")
     assert not (tmp_path / "bad").exists()
 
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(z0=st.floats(1.0, 1.15), vx=st.floats(1.0, 5.0), vy=st.floats(-0.3, 0.3),
+       theta=st.floats(0.1, 0.4), phi=st.floats(-0.12, 0.12))
+def test_any_half_cycle_conserves_energy_and_vertical_angular_momentum(z0, vx, vy, theta, phi):
+    """Non-periodic half cycles too: the spring is central about the foot and gravity is vertical, so
+    E and the vertical angular momentum about the foot, (r x v)_z, are constants of the stance."""
+    try:
+        hc = slip.simulate_half_cycle(P, [0.0, 0.0, z0, vx, vy, 0.0], theta, phi, dense=True)
+    except InfeasibleError:
+        assume(False)
+    t = np.linspace(0.0, hc.t_end, 600)
+    s = hc.sample(t)
+    E = slip.energy(P, s, hc.foot)
+    assert np.max(np.abs(E - E[0])) < 1e-8 * E[0]
+    stance = (t > hc.t_touchdown) & (t < hc.t_liftoff)
+    r = s[stance, :3] - hc.foot
+    Lz = r[:, 0] * s[stance, 4] - r[:, 1] * s[stance, 3]
+    assert np.ptp(Lz) < 1e-8 * max(1.0, np.max(np.abs(Lz)))
+    assert abs(hc.state1[5]) < 1e-9 and hc.state1[2] > hc.liftoff[2]
+
+
+def test_calibrated_leg_reproduces_paper_table1_timings():
+    """calibrate() picks (k, l0) so that the 3.5 m/s gait has h = 0.95 m and tau_SS = 0.2 s (Table I of
+    paper 001); checked on an independent re-integration of the resulting gait."""
+    p = slip.calibrate(3.5, flight=0.2, height=0.95, stance=0.2)
+    g = slip.periodic_half_cycle(3.5, flight=0.2, params=p)
+    hc = g.half_cycle
+    s1, foot, (t1, ts, t2) = _independent_half_cycle(hc.state0, hc.theta, hc.phi, params=p)
+    assert abs(p.leg_length * math.cos(hc.theta) * math.cos(hc.phi) - 0.95) < 1e-7
+    assert abs(ts - 0.2) < 1e-6 and abs(t1 + t2 - 0.2) < 1e-6
+    # the rounded defaults are the same leg to the stated digits
+    assert abs(p.stiffness - P.stiffness) < 50 and abs(p.leg_length - P.leg_length) < 5e-4

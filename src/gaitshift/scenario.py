@@ -119,11 +119,148 @@ class TvlipScenario(_Strict):
 
 # ============================================================================ VHIP (paper 003)
 # (the online generator's schema, class VhipScenario, goes here)
+from pydantic import ValidationInfo, field_validator  # noqa: E402  (used by the VHIP schema only)
 
 
-Scenario = Annotated[Union[TvlipScenario], Field(discriminator="planner")]
+class VhipHeights(_Strict):
+    """CoM heights of the VHIP running gait (paper 003 eqs. (3)-(6)), m, and the vertical CoM
+    accelerations at the contact switches, m/s^2 (``None`` = -gravity: zero ground force at touchdown
+    and take-off, so the vertical force is continuous)."""
+
+    stand: Pos = 0.80
+    touchdown: Pos = 0.80
+    takeoff: Pos = 0.80
+    z_low: Pos = 0.76
+    touchdown_acc: Annotated[float, Field(allow_inf_nan=False)] | None = None
+    takeoff_acc: Annotated[float, Field(allow_inf_nan=False)] | None = None
+
+    @field_validator("z_low")
+    @classmethod
+    def _squat_below(cls, v: float, info: ValidationInfo) -> float:
+        for key in ("takeoff", "touchdown", "stand"):
+            other = info.data.get(key)
+            if other is not None and not v < other:
+                raise ValueError(f"below the {key} height {other} m (the CoM squats in stance)")
+        return v
+
+
+class VhipCommand(_Strict):
+    """A speed command issued at time ``t`` (s): forward ``vx`` and lateral ``vy``, m/s."""
+
+    t: NonNeg = 0.0
+    vx: Real = 0.0
+    vy: Real = 0.0
+
+
+class VhipLimits(_Strict):
+    """Limits of the online generator. Commands beyond them are clamped and reported as events.
+
+    ``max_speed`` [x, y] (m/s); ``max_stride`` largest distance between consecutive footholds along
+    each axis (m); ``max_accel_per_step`` [x, y] largest change of the take-off speed target from one
+    step to the next (m/s per step)."""
+
+    max_speed: tuple[Pos, Pos] = (1.5, 0.4)
+    max_stride: Pos = 0.8
+    max_accel_per_step: tuple[Pos, Pos] = (0.3, 0.2)
+
+
+def _ticks(value: float, dt: float) -> int | None:
+    n = round(value / dt)
+    return n if abs(n * dt - value) <= 1e-9 * max(1.0, value) else None
+
+
+class VhipScenario(_Strict):
+    """The online VHIP running generator of paper 003: standing start, running with streamed speed
+    commands, stop to standstill (see docs/vhip.md)."""
+
+    planner: Literal["vhip"] = "vhip"
+    name: str = "custom"
+    description: str = ""
+    gravity: Pos = 9.81
+    #: control period = sample step, s (4 ms in the paper)
+    dt: Annotated[float, Field(gt=0, le=0.02, allow_inf_nan=False)] = 0.004
+    #: one running step (stance + flight), s
+    step_period: Pos = 0.4
+    #: stance share of a step, in (0, 1)
+    stance_ratio: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False)] = 0.7
+    #: standing double support before the first step (State Switching 1), s
+    start_double_support: Pos = 1.2
+    #: double support after the last step, ending at rest (State Switching 3), s
+    stop_double_support: Pos = 1.2
+    heights: VhipHeights = VhipHeights()
+    foot: Foot = Foot()
+    #: lateral distance between the two feet centres when standing, m
+    step_width: Pos = 0.2
+    first_support: Literal["left", "right"] = "left"
+    #: scripted speed commands, in time order
+    commands: tuple[VhipCommand, ...] = (VhipCommand(),)
+    #: time of the stop request, s (None: 2 s after the last command)
+    stop_at: NonNeg | None = None
+    limits: VhipLimits = VhipLimits()
+    #: swing-foot apex above the higher end, m
+    swing_apex: NonNeg = 0.08
+
+    @field_validator("step_period", "start_double_support", "stop_double_support")
+    @classmethod
+    def _multiple_of_dt(cls, v: float, info: ValidationInfo) -> float:
+        dt = info.data.get("dt")
+        if dt is not None:
+            n = _ticks(v, dt)
+            if n is None:
+                raise ValueError(f"a multiple of dt = {dt} s")
+            if n < 4:
+                raise ValueError(f">= 4 dt = {4 * dt:g} s")
+        return v
+
+    @field_validator("stance_ratio")
+    @classmethod
+    def _phases_fit(cls, v: float, info: ValidationInfo) -> float:
+        dt, step = info.data.get("dt"), info.data.get("step_period")
+        if dt is not None and step is not None:
+            n_sup = _ticks(v * step, dt)
+            if n_sup is None:
+                raise ValueError(f"a ratio making the stance ({v * step:g} s) a multiple of dt = {dt} s")
+            n_fly = round(step / dt) - n_sup
+            if n_sup < 4 or n_fly < 2:
+                raise ValueError(f"a stance of >= 4 dt and a flight of >= 2 dt (got stance {n_sup} dt, "
+                                 f"flight {n_fly} dt)")
+        return v
+
+    @field_validator("heights")
+    @classmethod
+    def _ground_pushes(cls, v: VhipHeights, info: ValidationInfo) -> VhipHeights:
+        from .models.vhip import stance_profiles  # lazy: the schema stays importable on its own
+
+        d = info.data
+        if all(k in d for k in ("gravity", "dt", "step_period", "stance_ratio")):
+            stance_profiles(v, d["gravity"], d["step_period"] * d["stance_ratio"],
+                            d["step_period"] * (1 - d["stance_ratio"]))
+        return v
+
+    @field_validator("commands")
+    @classmethod
+    def _in_time_order(cls, v: tuple[VhipCommand, ...]) -> tuple[VhipCommand, ...]:
+        if len(v) == 0:
+            raise ValueError("at least one command")
+        times = [c.t for c in v]
+        if any(b < a for a, b in zip(times, times[1:])):
+            raise ValueError(f"commands in time order (got t = {times})")
+        return v
+
+    @property
+    def n_stance(self) -> int:
+        """Stance samples per step."""
+        return round(self.step_period * self.stance_ratio / self.dt)
+
+    @property
+    def n_step(self) -> int:
+        """Samples per running step."""
+        return round(self.step_period / self.dt)
+
+
+Scenario = Annotated[Union[TvlipScenario, VhipScenario], Field(discriminator="planner")]
 _ADAPTER: TypeAdapter[Any] = TypeAdapter(Scenario)
-SCHEMAS: dict[str, type[BaseModel]] = {"tvlip": TvlipScenario}
+SCHEMAS: dict[str, type[BaseModel]] = {"tvlip": TvlipScenario, "vhip": VhipScenario}
 
 
 # ============================================================================ loading

@@ -54,18 +54,35 @@ def walking(height, gravity=9.81):
     return np.sqrt(np.asarray(height, float) / gravity)
 
 
+def _running_parts(T, v0, height, single_support, flight, gravity):
+    """Residual (r0, r1) of eqs. (9)-(11) and Jacobian entries (j00, j01, j10, j11) w.r.t. (T, v0)."""
+    z1, v1, dz1, dv1 = support_map_1d(height, v0, T, single_support, gravity)
+    z2 = z1 + v1 * flight - 0.5 * gravity * flight**2
+    v2 = v1 - gravity * flight
+    return (z2 - height, v2 - v0, dz1[2] + flight * dv1[2], dz1[1] + flight * dv1[1], dv1[2], dv1[1] - 1.0)
+
+
+def _transition_parts(T0, T1, height, double_support, single_support, v_r, gravity):
+    """Residual (r0, r1) of eqs. (12)-(14) and Jacobian entries w.r.t. (T_t0, T_t1)."""
+    z1, v1, dz1, dv1 = support_map_1d(height, 0.0, T0, double_support, gravity)
+    z2, v2, dz2, dv2 = support_map_1d(z1, v1, T1, single_support, gravity)
+    return (z2 - height, v2 + v_r, dz2[0] * dz1[2] + dz2[1] * dv1[2], dz2[2],
+            dv2[0] * dz1[2] + dv2[1] * dv1[2], dv2[2])
+
+
+def _stack(parts):
+    r0, r1, j00, j01, j10, j11 = parts
+    r = np.stack(np.broadcast_arrays(r0, r1), axis=-1)
+    J = np.stack([np.stack(np.broadcast_arrays(j00, j01), -1), np.stack(np.broadcast_arrays(j10, j11), -1)], -2)
+    return r, J
+
+
 def running_residual(T, v0, height, single_support, flight, gravity=9.81):
     """Residual of eqs. (9)-(11) and its Jacobian with respect to (T, v0).
 
     Returns ``(r, J)`` with r shape (..., 2) = (z_2 - h, v_2 - v_0) and J shape (..., 2, 2).
     """
-    z1, v1, dz1, dv1 = support_map_1d(height, v0, T, single_support, gravity)
-    z2 = z1 + v1 * flight - 0.5 * gravity * flight**2
-    v2 = v1 - gravity * flight
-    r = np.stack([z2 - height, v2 - v0], axis=-1)
-    J = np.stack([np.stack([dz1[2] + flight * dv1[2], dz1[1] + flight * dv1[1]], -1),
-                  np.stack([dv1[2], dv1[1] - 1.0], -1)], -2)
-    return r, J
+    return _stack(_running_parts(T, v0, height, single_support, flight, gravity))
 
 
 def transition_residual(T0, T1, height, double_support, single_support, v_r, gravity=9.81):
@@ -73,13 +90,37 @@ def transition_residual(T0, T1, height, double_support, single_support, v_r, gra
 
     Returns ``(r, J)`` with r = (z_2 - h, v_2 + v_r), shape (..., 2), and J shape (..., 2, 2).
     """
-    z1, v1, dz1, dv1 = support_map_1d(height, 0.0, T0, double_support, gravity)
-    z2, v2, dz2, dv2 = support_map_1d(z1, v1, T1, single_support, gravity)
-    r = np.stack([z2 - height, v2 + v_r], axis=-1)
-    dz2_dT0 = dz2[0] * dz1[2] + dz2[1] * dv1[2]
-    dv2_dT0 = dv2[0] * dz1[2] + dv2[1] * dv1[2]
-    J = np.stack([np.stack([dz2_dT0, dz2[2]], -1), np.stack([dv2_dT0, dv2[2]], -1)], -2)
-    return r, J
+    return _stack(_transition_parts(T0, T1, height, double_support, single_support, v_r, gravity))
+
+
+def _newton_scalar(parts, x0: float, x1: float) -> tuple[float, float, float, int]:
+    """Damped Newton for one point in plain floats (the same iteration as :func:`_newton`)."""
+    r0, r1, a, b, c, d = parts(x0, x1)
+    norm = max(abs(r0), abs(r1))
+    it = 0
+    while norm > TOL and it < MAX_ITER:
+        det = a * d - b * c
+        if det == 0.0 or not math.isfinite(det):
+            break
+        d0 = -(d * r0 - b * r1) / det
+        d1 = -(-c * r0 + a * r1) / det
+        alpha = 1.0
+        for _ in range(30):
+            y0, y1 = x0 + alpha * d0, x1 + alpha * d1
+            try:
+                trial = parts(y0, y1)
+            except (OverflowError, ZeroDivisionError):
+                trial = None
+            if trial is not None and all(map(math.isfinite, trial)) and max(abs(trial[0]), abs(trial[1])) <= norm:
+                break
+            alpha /= 2
+        else:
+            break
+        x0, x1 = y0, y1
+        r0, r1, a, b, c, d = trial
+        norm = max(abs(r0), abs(r1))
+        it += 1
+    return x0, x1, norm, it
 
 
 def _newton(residual, x0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -119,12 +160,21 @@ def _newton(residual, x0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarra
     return x, norm, iters
 
 
+def _scalars(*values) -> bool:
+    return all(np.ndim(v) == 0 for v in values)
+
+
 def solve_running(height, single_support, flight, gravity=9.81):
     """Solve eqs. (9)-(11) for (T_r, v_r). Broadcasts.
 
     Returns ``(T_r, v_r, residual, iterations)``. The root exists and is unique in (0, T_w) for all
     positive timings (see docs/equations.md).
     """
+    if _scalars(height, single_support, flight):
+        h, tss, tf, g = float(height), float(single_support), float(flight), float(gravity)
+        T, v, res, it = _newton_scalar(lambda a, b: _running_parts(a, b, h, tss, tf, g),
+                                       0.8 * math.sqrt(h / g), -0.5 * g * tf)
+        return abs(T), v, res, it
     h, tss, tf = np.broadcast_arrays(*(np.asarray(a, float) for a in (height, single_support, flight)))
     Tw = np.sqrt(h / gravity)
     x0 = np.stack([0.8 * Tw, -0.5 * gravity * tf], -1)
@@ -137,6 +187,12 @@ def solve_transition(height, double_support, single_support, v_r, gravity=9.81, 
 
     Returns ``(T_t0, T_t1, residual, iterations)``.
     """
+    if _scalars(height, double_support, single_support, v_r, T_guess):
+        h, tds, tss, vr, g = (float(x) for x in (height, double_support, single_support, v_r, gravity))
+        Tw = math.sqrt(h / g)
+        t1 = float(T_guess) if T_guess is not None else 0.8 * Tw
+        a, b, res, it = _newton_scalar(lambda a, b: _transition_parts(a, b, h, tds, tss, vr, g), 1.1 * Tw, t1)
+        return abs(a), abs(b), res, it
     h, tds, tss, vr = np.broadcast_arrays(*(np.asarray(a, float) for a in (height, double_support,
                                                                             single_support, v_r)))
     Tw = np.sqrt(h / gravity)

@@ -10,7 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 
-_MJ = np.array([0.0, 0.0, 0.0, 10.0, -15.0, 6.0])  # minimum-jerk blend coefficients in u
+# rows: z(1) - z0, z'(1), z''(1), z(1/2) - z0 as linear functions of a3..a6 (with a0=z0, a1=a2=0)
+_SEXTIC_INV = np.linalg.inv(np.array([[1.0, 1.0, 1.0, 1.0],
+                                      [3.0, 4.0, 5.0, 6.0],
+                                      [6.0, 12.0, 20.0, 30.0],
+                                      [0.5**3, 0.5**4, 0.5**5, 0.5**6]]))
 
 
 def min_jerk(u: np.ndarray) -> np.ndarray:
@@ -26,13 +30,8 @@ def sextic_height_coefficients(z0: np.ndarray, z1: np.ndarray, apex: np.ndarray)
     With a_0 = z0 and a_1 = a_2 = 0, the remaining four coefficients solve a fixed 4x4 system.
     """
     z0, z1, apex = np.broadcast_arrays(np.asarray(z0, float), np.asarray(z1, float), np.asarray(apex, float))
-    # rows: z(1) - z0, z'(1), z''(1), z(1/2) - z0 for unknowns a3..a6
-    m = np.array([[1.0, 1.0, 1.0, 1.0],
-                  [3.0, 4.0, 5.0, 6.0],
-                  [6.0, 12.0, 20.0, 30.0],
-                  [0.5**3, 0.5**4, 0.5**5, 0.5**6]])
-    rhs = np.stack([z1 - z0, np.zeros_like(z0), np.zeros_like(z0), apex - z0], axis=-1)
-    a36 = np.linalg.solve(m, rhs[..., None])[..., 0]
+    # a3..a6 = M^-1 [z1 - z0, 0, 0, apex - z0]: only columns 0 and 3 of M^-1 matter
+    a36 = (z1 - z0)[..., None] * _SEXTIC_INV[:, 0] + (apex - z0)[..., None] * _SEXTIC_INV[:, 3]
     zeros = np.zeros_like(z0)[..., None]
     return np.concatenate([z0[..., None], zeros, zeros, a36], axis=-1)
 

@@ -392,3 +392,27 @@ class _Shifted:
 
     def sol(self, t):
         return self._sol.sol(t) + self._offset[:, None]
+
+
+def calibrate(speed: float = 3.5, *, flight: float = 0.2, step_width: float = 0.1, height: float = 0.95,
+              stance: float = 0.2, mass: float = 80.0, gravity: float = 9.81) -> SlipParams:
+    """Leg stiffness k and length l0 whose periodic gait has touchdown height ``height`` and stance
+    duration ``stance`` (2-by-2 root solve over (k, l0), each evaluation one gait search).
+
+    The defaults reproduce paper 001 Table I (h = 0.95 m, tau_SS = tau_F = 0.2 s) at the 3.5 m/s of
+    §IV-C; :class:`SlipParams` holds the result rounded (see docs/slip.md).
+
+    Raises:
+        InfeasibleError: the root solve did not converge.
+    """
+    from scipy.optimize import root
+
+    def r(x: np.ndarray) -> np.ndarray:
+        p = SlipParams(mass=mass, stiffness=float(x[0]) * 1e3, leg_length=float(x[1]), gravity=gravity)
+        hc = periodic_half_cycle(speed, flight=flight, step_width=step_width, params=p).half_cycle
+        return np.array([hc.touchdown[2] - height, hc.stance_duration - stance])
+
+    sol = root(r, [18.0, height + 0.06], method="hybr", options={"eps": 1e-8})
+    if not sol.success or np.max(np.abs(sol.fun)) > 1e-8:
+        raise InfeasibleError(f"SLIP calibration failed: {sol.message} (residual {np.max(np.abs(sol.fun)):.1e})")
+    return SlipParams(mass=mass, stiffness=float(sol.x[0]) * 1e3, leg_length=float(sol.x[1]), gravity=gravity)

@@ -19,6 +19,8 @@ All functions broadcast over leading axes; positions are m, velocities m/s, time
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -71,7 +73,10 @@ def support_map_1d(z, v, T, tau, g, c=0.0):
     (z, v, T). Broadcasts over all inputs. Used by the stiffness root finding (eqs. (9)-(14)).
     """
     a = tau / T
-    ch, sh = np.cosh(a), np.sinh(a)
+    if isinstance(a, float):  # scalar fast path: math is ~20x faster than numpy on 0-d values
+        ch, sh = math.cosh(a), math.sinh(a)
+    else:
+        ch, sh = np.cosh(a), np.sinh(a)
     e = z - c - g * T**2
     z1 = c + g * T**2 + e * ch + T * v * sh
     v1 = e * sh / T + v * ch

@@ -40,7 +40,7 @@ from scipy.linalg import lapack, solve_banded
 from ..errors import InfeasibleError
 
 __all__ = [
-    "Horizon", "flight_takeoff_velocity", "flight_height", "sextic_coefficients", "sextic_eval",
+    "Horizon", "VerticalGait", "stance_profiles", "flight_takeoff_velocity", "flight_height", "sextic_coefficients", "sextic_eval",
     "min_vertical_force", "check_pushing", "row_weights", "tridiagonal_system", "thomas",
     "solve_banded_tridiagonal", "solve_tridiagonal", "zmp_from_com",
 ]
@@ -131,6 +131,91 @@ def check_pushing(coef: np.ndarray, T: float, g: float, field: str, value: objec
         raise InfeasibleError(f"{field} = {value!r} is infeasible: the CoM height crosses the ground")
 
 
+@dataclass(frozen=True, eq=False)
+class VerticalGait:
+    """The vertical CoM plan of a run (eqs. (3)-(6)): three stance sextics and the flight parabola.
+
+    ``start``: standing height at rest -> take-off (State Switching 1); ``run``: touchdown ->
+    take-off (cyclic running); ``stop``: touchdown -> standing height at rest (State Switching 3).
+    All three pass through ``z_low`` at mid-stance. Coefficients in t (s), shape (7,) each.
+    """
+
+    g: float
+    t_sup: float
+    t_fly: float
+    z_stand: float
+    z_td: float
+    z_to: float
+    z_low: float
+    a_td: float
+    a_to: float
+    zd_to: float
+    zd_td: float
+    start: np.ndarray
+    run: np.ndarray
+    stop: np.ndarray
+
+    def _stance(self, coef: np.ndarray, j: np.ndarray, dt: float):
+        return sextic_eval(coef, j * dt)
+
+    def running_step(self, dt: float, n_fly: int, n_sup: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(z, zd, zdd) at samples j = 0..n_fly+n_sup of a step that starts at a take-off: flight
+        for j < n_fly, stance sextic for j >= n_fly (touchdown at j = n_fly, take-off at the end)."""
+        j = np.arange(n_fly + n_sup + 1, dtype=float)
+        out = [np.empty_like(j) for _ in range(3)]
+        fl = j < n_fly
+        for o, v in zip(out, flight_height(self.z_to, self.zd_to, j[fl] * dt, self.g)):
+            o[fl] = v
+        for o, v in zip(out, self._stance(self.run, j[~fl] - n_fly, dt)):
+            o[~fl] = v
+        return out[0], out[1], out[2]
+
+    def start_horizon(self, dt: float, n_ds: int, n_sup: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(z, zd, zdd) at samples 0..n_ds+n_sup: constant standing height in double support, then the
+        start sextic up to the first take-off."""
+        j = np.arange(n_ds + n_sup + 1, dtype=float)
+        z, zd, zdd = np.full_like(j, self.z_stand), np.zeros_like(j), np.zeros_like(j)
+        st = j >= n_ds
+        z[st], zd[st], zdd[st] = self._stance(self.start, j[st] - n_ds, dt)
+        return z, zd, zdd
+
+    def stop_horizon(self, dt: float, n_fly: int, n_sup: int, n_ds: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(z, zd, zdd) at samples 0..n_fly+n_sup+n_ds from a take-off: flight, the stop sextic, then
+        the standing height at rest in double support."""
+        j = np.arange(n_fly + n_sup + n_ds + 1, dtype=float)
+        z, zd, zdd = np.full_like(j, self.z_stand), np.zeros_like(j), np.zeros_like(j)
+        fl = j < n_fly
+        z[fl], zd[fl], zdd[fl] = flight_height(self.z_to, self.zd_to, j[fl] * dt, self.g)
+        st = (j >= n_fly) & (j <= n_fly + n_sup)
+        z[st], zd[st], zdd[st] = self._stance(self.stop, j[st] - n_fly, dt)
+        return z, zd, zdd
+
+
+def stance_profiles(heights, g: float, t_sup: float, t_fly: float) -> VerticalGait:
+    """Build and check the vertical gait from ``heights`` (an object with ``stand``, ``touchdown``,
+    ``takeoff``, ``z_low``, ``touchdown_acc``, ``takeoff_acc``; accelerations ``None`` = -g).
+
+    Raises:
+        InfeasibleError: a contact-switch acceleration below -g, or a ``z_low`` whose sextic needs a
+            pulling ground force (z'' + g <= 0 inside a stance). The message names the field.
+    """
+    a_td = -g if heights.touchdown_acc is None else float(heights.touchdown_acc)
+    a_to = -g if heights.takeoff_acc is None else float(heights.takeoff_acc)
+    for name, a in (("heights.touchdown_acc", a_td), ("heights.takeoff_acc", a_to)):
+        if a < -g:
+            raise InfeasibleError(f"{name} = {a!r} is infeasible: below -gravity = {-g} m/s^2 the ground "
+                                  "would have to pull")
+    zd_to, zd_td = flight_takeoff_velocity(heights.takeoff, heights.touchdown, t_fly, g)
+    zs, zl = heights.stand, heights.z_low
+    start = sextic_coefficients(t_sup, zs, 0.0, 0.0, zl, heights.takeoff, zd_to, a_to)
+    run = sextic_coefficients(t_sup, heights.touchdown, zd_td, a_td, zl, heights.takeoff, zd_to, a_to)
+    stop = sextic_coefficients(t_sup, heights.touchdown, zd_td, a_td, zl, zs, 0.0, 0.0)
+    for coef in (run, start, stop):
+        check_pushing(coef, t_sup, g, "heights.z_low", zl)
+    return VerticalGait(g, t_sup, t_fly, zs, heights.touchdown, heights.takeoff, zl, a_td, a_to,
+                        zd_to, zd_td, start, run, stop)
+
+
 # ============================================================================ horizontal (eqs. 7-14)
 def row_weights(z: np.ndarray, zdd: np.ndarray, g: float, dt: float) -> np.ndarray:
     """Row weights ``w_i = (z''_i + g) dt^2 / z_i`` of eq. (9'), clipped at 0 (flight)."""
@@ -189,13 +274,18 @@ def solve_banded_tridiagonal(lower: np.ndarray, diag: np.ndarray, upper: np.ndar
 
 
 def solve_tridiagonal(lower: np.ndarray, diag: np.ndarray, upper: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Solve a tridiagonal system in O(n); the faster of :func:`thomas` and scipy (see bench).
+    """Solve a tridiagonal system in O(n); the fastest of the measured options (see bench).
 
-    ``gaitshift bench --only vhip.horizontal`` measures both: scipy's compiled LAPACK ``gtsv`` wins
-    by one to two orders of magnitude over the interpreted Thomas loop at every size, so it is the
-    default. :func:`thomas` stays as the independent reference used by the tests.
+    ``gaitshift bench --only vhip.horizontal`` measures our :func:`thomas`, ``solve_banded`` and the
+    LAPACK routine ``gtsv`` that ``solve_banded`` calls for (1, 1) bands. Compiled LAPACK beats the
+    interpreted Thomas loop by about 2x at n = 100 and 20x at n = 5000; calling ``gtsv`` directly
+    also skips ``solve_banded``'s argument handling (about 3x faster at n = 100). So ``gtsv`` it is.
+    :func:`thomas` stays as the independent reference used by the tests.
     """
-    return solve_banded_tridiagonal(lower, diag, upper, rhs)
+    x = lapack.dgtsv(lower, diag, upper, rhs)
+    if x[-1] != 0:  # pragma: no cover - diagonally dominant matrices are never singular
+        raise InfeasibleError(f"eq. (13) is singular (gtsv info {x[-1]})")
+    return x[3]
 
 
 @dataclass(frozen=True, eq=False)

@@ -113,10 +113,11 @@ def _kkt_entries(ap, av, d, K):
     return np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
 
 
-def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: float):
+def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: float, dense: bool = False):
     """Solve the equality-constrained hinge least squares for d = boxes.origin.shape[1] axes.
 
-    ``const_scale`` multiplies the gravity terms (1 for z, 0 for horizontal axes).
+    ``const_scale`` multiplies the gravity terms (1 for z, 0 for horizontal axes). ``dense`` solves the
+    same KKT system with a dense LU (the O(K^3) baseline of ``gaitshift bench``).
     Returns (p, v, c) of shape (K+1, d), iterations, max violation, boundary index of it.
     """
     K = len(kind)
@@ -156,6 +157,10 @@ def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: floa
         rhs = rhs_dyn.copy()
         rhs[c_idx.reshape(-1)] = rhs_c.reshape(-1)
         rhs[fixed_idx] = fixed_val
+        if dense:
+            A = np.zeros((n, n))
+            np.add.at(A, (rows, cols), vals)
+            return np.linalg.solve(A, rhs)
         lower = int(np.max(rows - cols))
         upper = int(np.max(cols - rows))
         ab = np.zeros((lower + upper + 1, n))
@@ -230,7 +235,7 @@ def build_boxes(seq: GaitSequence, foot_size, margin: float, zmp_z) -> tuple[Box
 
 
 def solve_boundaries(seq: GaitSequence, height: float, g: float, foot_size, margin: float,
-                     zmp_z=(0.0, 0.0)) -> BoundaryPlan:
+                     zmp_z=(0.0, 0.0), dense: bool = False) -> BoundaryPlan:
     """Boundary states and ZMPs for a gait sequence, starting and ending at rest above the mid-feet."""
     kinds, T, tau = seq.kind, seq.stiffness, seq.duration
     on, fs = seq.on, seq.footstep_array
@@ -238,9 +243,9 @@ def solve_boundaries(seq: GaitSequence, height: float, g: float, foot_size, marg
     start = (fs[on[0, LEFT], :3] + fs[on[0, RIGHT], :3]) / 2
     goal = (fs[on[-1, LEFT], :3] + fs[on[-1, RIGHT], :3]) / 2
     p_xy, v_xy, c_xy, it1, viol1, w1 = _solve_axes(kinds, T, tau, g, xy, start[:2], np.zeros(2),
-                                                   goal[:2], np.zeros(2), 0.0)
+                                                   goal[:2], np.zeros(2), 0.0, dense)
     p_z, v_z, c_z, it2, viol2, w2 = _solve_axes(kinds, T, tau, g, z, start[2:] + height, np.zeros(1),
-                                                goal[2:] + height, np.zeros(1), 1.0)
+                                                goal[2:] + height, np.zeros(1), 1.0, dense)
     p = np.hstack([p_xy, p_z])
     v = np.hstack([v_xy, v_z])
     c = np.hstack([c_xy, c_z])
@@ -260,15 +265,20 @@ def sample(seq: GaitSequence, bp: BoundaryPlan, g: float, dt: float, swing_heigh
     s = np.maximum(t - tb[k], 0.0)
     kinds, T, tau = seq.kind[k], seq.stiffness[k], seq.duration[k]
     sup = kinds != FLIGHT
-    p_s, v_s, a_s, c_s = support_state(bp.p[k], bp.v[k], bp.c[k], bp.c[k + 1], np.where(sup, T, 1.0), tau, s, g)
-    p_f, v_f, a_f = flight_state(bp.p[k], bp.v[k], s, g)
-    m = sup[:, None]
+    fl = ~sup
+    pos, vel, acc = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+    zmp = np.full((n, 3), np.nan)
+    ks = k[sup]
+    pos[sup], vel[sup], acc[sup], zmp[sup] = support_state(bp.p[ks], bp.v[ks], bp.c[ks], bp.c[ks + 1], T[sup],
+                                                           tau[sup], s[sup], g)
+    kf = k[fl]
+    pos[fl], vel[fl], acc[fl] = flight_state(bp.p[kf], bp.v[kf], s[fl], g)
     out = {
         "t": t,
-        "com_pos": np.where(m, p_s, p_f),
-        "com_vel": np.where(m, v_s, v_f),
-        "com_acc": np.where(m, a_s, a_f),
-        "zmp": np.where(m, c_s, np.nan),
+        "com_pos": pos,
+        "com_vel": vel,
+        "com_acc": acc,
+        "zmp": zmp,
         "phase": kinds.astype(np.int8),
         "stiffness": np.where(sup, T, np.nan),
         "command_vel": np.full((n, 2), np.nan),

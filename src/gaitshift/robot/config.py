@@ -99,6 +99,7 @@ class RobotConfig:
         com_height: nominal CoM height above the sole plane in the standing pose, m.
         leg_length: hip-pitch axis to sole centre, leg straight, m.
         foot_separation: lateral distance of the two soles in the standing pose, m.
+        source: the built-in name or YAML path it was loaded from.
     """
 
     name: str
@@ -122,6 +123,7 @@ class RobotConfig:
     com_height: float
     leg_length: float
     foot_separation: float
+    source: str = ""
 
     #: Names of the sole sites the IK adds to the model.
     SOLE_SITES = ("gaitshift_left_sole", "gaitshift_right_sole")
@@ -171,16 +173,16 @@ def load_robot(name_or_yaml: "str | Path | RobotConfig") -> RobotConfig:
     path = Path(key)
     if key in builtin_robots():
         text = (resources.files("gaitshift") / "robot" / "configs" / f"{key}.yaml").read_text()
-        base = None
+        base, source = None, key
     elif path.suffix in (".yaml", ".yml") and path.is_file():
-        text, base = path.read_text(), path.resolve().parent
+        text, base, source = path.read_text(), path.resolve().parent, str(path.resolve())
     else:
         raise InputError("robot", key, "a robot YAML path or one of: " + ", ".join(builtin_robots()))
-    return _load_text(text, str(base) if base else None)
+    return _load_text(text, str(base) if base else None, source)
 
 
 @functools.lru_cache(maxsize=16)
-def _load_text(text: str, base: str | None) -> RobotConfig:
+def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
     try:
         raw = yaml.safe_load(text)
     except yaml.YAMLError as exc:
@@ -253,7 +255,7 @@ def _load_text(text: str, base: str | None) -> RobotConfig:
         standing_pose=tuple(cfg.standing_pose.items()), velocity_limits_source=cfg.velocity_limits_source,
         joint_names=names, joint_range=rng, torque_limit=torque, velocity_limit=vel,
         mass=float(model.body_subtreemass[1]), com_height=com_height, leg_length=min(legs),
-        foot_separation=foot_sep)
+        foot_separation=foot_sep, source=source)
 
 
 def _resolve_mjcf(spec: str, base: str | None) -> Path:
@@ -316,7 +318,7 @@ def _compile(mjcf: Path, sole_bodies: tuple[str, str], sole_offsets: tuple, scen
         spec.visual.global_.offheight = 1080
         spec.visual.quality.shadowsize = 0
         world = spec.worldbody
-        world.add_light(pos=[0, 0, 4], dir=[0, 0, -1], directional=True, castshadow=False,
+        world.add_light(pos=[0, 0, 4], dir=[0, 0, -1], type=int(mujoco.mjtLightType.mjLIGHT_DIRECTIONAL), castshadow=0,
                         diffuse=[0.6, 0.6, 0.6])
         tex = spec.add_texture(name="gaitshift_grid", type=mujoco.mjtTexture.mjTEXTURE_2D,
                                builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, width=300, height=300,

@@ -275,6 +275,7 @@ class WholeBodyIK:
         jids = [m.joint(n).id for n in self.robot.joint_names]
         self._qadr = np.array([m.jnt_qposadr[j] for j in jids])
         self._vadr = np.array([m.jnt_dofadr[j] for j in jids])
+        self._lo, self._hi = self.robot.joint_range[:, 0], self.robot.joint_range[:, 1]
 
     # ------------------------------------------------------------------ one sample
     def _errors(self, com: np.ndarray, feet: np.ndarray, rots: list[np.ndarray]) -> np.ndarray:
@@ -394,6 +395,7 @@ class WholeBodyIK:
             t0 = time.perf_counter()
             if k >= 2:
                 mujoco.mj_integratePos(m, q, v_prev, 1.0)
+                q[self._qadr] = np.clip(q[self._qadr], self._lo, self._hi)
             qk, err, it, failure = self._solve_sample(q, com_all[k], feet_all[k], yaw_all[k],
                                                       s.first_iter if k == 0 else s.max_iter)
             if (failure is not None or err[0] > s.com_tol or max(err[1], err[2]) > s.pos_tol

@@ -452,3 +452,24 @@ def _open_viewer(m, d):
     import mujoco.viewer  # noqa: PLC0415
 
     return mujoco.viewer.launch_passive(m, d)
+
+
+def mid_stance_pushes(traj: Trajectory, impulse: float, steps: tuple[int, ...] = (4, 8),
+                      duration: float = 0.1) -> tuple[Push, ...]:
+    """Lateral pushes of ``impulse`` N s centred at mid single support of the given (1-based) steps,
+    alternating +y, -y. Steps beyond the plan are ignored."""
+    ss = [(s, e) for s, e in _phase_runs(traj.phase == 1)]
+    out = []
+    for j, k in enumerate(steps):
+        if 1 <= k <= len(ss):
+            s, e = ss[k - 1]
+            tm = 0.5 * (traj.t[s] + traj.t[min(e, len(traj) - 1)])
+            out.append(Push(t=float(tm - duration / 2), impulse=float(impulse), duration=duration,
+                            direction=(0.0, 1.0 if j % 2 == 0 else -1.0)))
+    return tuple(out)
+
+
+def _phase_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    m = np.concatenate([[False], mask, [False]]).astype(np.int8)
+    d = np.diff(m)
+    return list(zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1)))

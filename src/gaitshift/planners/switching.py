@@ -1,0 +1,373 @@
+"""Start and stop of a run: the segmented cubic ZMP optimisation of paper 003 (§3.2, eqs. (15)-(18)).
+
+State Switching 1 (start) covers a standing double support of duration T followed by the first
+stance (and optionally a flight). During double support the ZMP of each horizontal axis is two cubic
+Hermite segments (eqs. (16a)-(18)): from ``y0`` (rest, zero rate) to a knot ``(y_m, y'_m)`` at
+``dT1`` and on to ``y1`` (zero rate) at ``T = dT1 + dT2``; in the stance it stays at ``y1``. The CoM
+follows from eq. (13) with the velocity conditions ``c'(0) = 0`` and ``c'(end) = v_ref`` (16e-f);
+the remaining condition of (16f), ``c(0) = c0``, is one linear equation in the ZMP samples. The ZMP
+must stay in the double-support polygon (16g), here the box ``[lo, hi]`` per axis.
+
+Eq. (16) has no objective: with three unknowns (dT1, y_m, y'_m) and one equation its solution is
+not unique. We add the smoothness objective (documented in docs/vhip.md)::
+
+    J = integral_0^T (y''(t))^2 dt          (ZMP "bending energy" of the two cubics)
+
+For a fixed dT1 the ZMP samples are linear in (y_m, y'_m) and J is a convex quadratic, so the
+equality-constrained minimum has a closed form (3x3 KKT system). Our solver scans dT1 on a grid,
+vectorised over all candidates at once, keeps the best feasible one and zooms in twice. The linear
+functional ``c_0 = lambda . rhs`` comes from one adjoint solve ``Phi^T lambda = e_0``.
+
+State Switching 3 (stop) is the same problem in reversed time: the rows of eq. (9') are symmetric
+(alpha_i = chi_i), so reversing the samples maps a stop onto a start (see :func:`solve_stop`).
+
+Eq. (18) as printed has ``2 dT x'_1`` in ``b_2``; the Hermite conditions need ``dT x'_1``
+(see :func:`hermite_coefficients` and docs/vhip.md).
+
+IPOPT (casadi, optional extra ``gaitshift[ipopt]``) solves the very same problem as a reference:
+:func:`solve_switching_ipopt`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import InfeasibleError
+from ..models.vhip import Horizon
+
+__all__ = ["SwitchingProblem", "SwitchingSolution", "hermite_coefficients", "smoothness",
+           "solve_switching", "solve_stop", "zmp_samples", "IpoptSwitching", "solve_switching_ipopt"]
+
+#: shortest cubic segment as a share of T (keeps the Hermite basis well conditioned)
+MIN_SEGMENT = 0.05
+#: grid size of each scan pass over dT1, and number of zoom passes
+GRID, ZOOMS = 64, 3
+
+
+def hermite_coefficients(dT, x0, xd0, x1, xd1) -> np.ndarray:
+    """Gamma of eqs. (17)-(18): cubic coefficients b_0..b_3 (in time since the segment start).
+    Inputs broadcast; output shape (4, ...).
+
+    ``b_2 = (3 (x1 - x0) - (2 xd0 + xd1) dT) / dT^2`` (corrected: the paper prints ``2 dT xd1``),
+    ``b_3 = (2 (x0 - x1) + (xd0 + xd1) dT) / dT^3``.
+    """
+    b2 = (3.0 * (x1 - x0) - (2.0 * xd0 + xd1) * dT) / dT**2
+    b3 = (2.0 * (x0 - x1) + (xd0 + xd1) * dT) / dT**3
+    return np.stack(np.broadcast_arrays(np.asarray(x0, float), np.asarray(xd0, float), b2, b3))
+
+
+def smoothness(dT1, dT2, y0, ym, ydm, y1):
+    """J = integral of y''^2 over both cubics, closed form (broadcasts). For a Hermite cubic of
+    duration h from (a, va) to (b, vb): ``4/h^3 (3 D^2 - 3 h D (va + vb) + h^2 (va^2 + va vb + vb^2))``
+    with D = b - a."""
+    def seg(h, d, va, vb):
+        return 4.0 / h**3 * (3 * d * d - 3 * h * d * (va + vb) + h * h * (va * va + va * vb + vb * vb))
+    return seg(dT1, ym - y0, 0.0, ydm) + seg(dT2, y1 - ym, ydm, 0.0)
+
+
+@dataclass(frozen=True, eq=False)
+class SwitchingProblem:
+    """One start problem, both horizontal axes [x, y].
+
+    Attributes:
+        w: row weights of eq. (9') over the horizon samples 0..n (n+1,).
+        n_ds: double-support samples; the cubics span t in [0, n_ds dt], the stance follows.
+        dt: sample step, s.
+        y0, y1: ZMP at the start and at the end of double support (2,), m.
+        c0: CoM at t = 0 (2,), m.
+        v_end: CoM velocity at the last sample (2,), m/s (c'(0) = 0).
+        lo, hi: ZMP bounds in double support (2,), m.
+    """
+
+    w: np.ndarray
+    n_ds: int
+    dt: float
+    y0: np.ndarray
+    y1: np.ndarray
+    c0: np.ndarray
+    v_end: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+    @property
+    def T(self) -> float:
+        return self.n_ds * self.dt
+
+    def affine_constraint(self, horizon: Horizon | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(g, K): ``c_0 = K + sum_i g_i p_i`` over double-support samples i = 0..n_ds, per axis.
+
+        From ``c = Phi^{-1} rhs`` with ``rhs = [0, w_i p_i, v_end dt]``: ``c_0 = lambda . rhs`` with
+        ``Phi^T lambda = e_0``. Returns g (n_ds+1,) and K (2,).
+        """
+        h = horizon or Horizon(self.w, self.dt)
+        e0 = np.zeros(len(self.w))
+        e0[0] = 1.0
+        lam = h.solve_transposed(e0)
+        gw = lam * self.w
+        gw[0] = gw[-1] = 0.0
+        g = gw[: self.n_ds + 1]
+        K = lam[-1] * np.asarray(self.v_end, float) * self.dt + np.asarray(self.y1, float) * gw[self.n_ds + 1:].sum()
+        return g, K
+
+
+@dataclass(frozen=True, eq=False)
+class SwitchingSolution:
+    """Solution per axis [x, y]: knot time dT1 (s), knot ZMP y_m (m) and rate y'_m (m/s), objective J,
+    the ZMP over double support (n_ds+1, 2), the CoM over the horizon (n+1, 2), candidates tried."""
+
+    dT1: np.ndarray
+    ym: np.ndarray
+    ydm: np.ndarray
+    J: np.ndarray
+    zmp: np.ndarray
+    com: np.ndarray
+    evaluations: int
+
+
+def _basis(t: np.ndarray, h1: np.ndarray, T: float, y0: float, y1: float):
+    """Sampled Hermite basis for candidates h1 (K,) at times t (n,): p = P0 + ym M + ydm D, (K, n)."""
+    h1 = h1[:, None]
+    h2 = T - h1
+    first = t[None, :] <= h1
+    s1 = t[None, :] / h1
+    s2 = (t[None, :] - h1) / h2
+    s = np.where(first, s1, s2)
+    s2_, s3_ = s * s, s * s * s
+    h00 = 2 * s3_ - 3 * s2_ + 1
+    h10 = s3_ - 2 * s2_ + s
+    h01 = -2 * s3_ + 3 * s2_
+    h11 = s3_ - s2_
+    P0 = np.where(first, y0 * h00, y1 * h01)
+    M = np.where(first, h01, h00)
+    D = np.where(first, h11 * h1, h10 * h2)
+    return P0, M, D
+
+
+def zmp_samples(t: np.ndarray, dT1: float, T: float, y0: float, ym: float, ydm: float, y1: float) -> np.ndarray:
+    """ZMP of eq. (16a) at times ``t`` in [0, T] (from the Hermite form, eqs. (17)-(18))."""
+    P0, M, D = _basis(np.asarray(t, float), np.array([dT1]), T, y0, y1)
+    return (P0 + ym * M + ydm * D)[0]
+
+
+def _cubic_range(h, x0, v0, x1, v1):
+    """Min and max of the Hermite cubic from (x0, v0) to (x1, v1) over [0, h]; broadcasts."""
+    b = hermite_coefficients(h, x0, v0, x1, v1)
+    lo, hi = np.minimum(x0, x1), np.maximum(x0, x1)
+    # stationary points: v0 + 2 b2 t + 3 b3 t^2 = 0
+    qa, qb, qc = 3 * b[3], 2 * b[2], v0 + 0 * h
+    disc = qb * qb - 4 * qa * qc
+    sq = np.sqrt(np.maximum(disc, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        safe = np.where(np.abs(qa) > 1e-300, qa, 1.0)
+        roots = [np.where(np.abs(qa) > 1e-300, (-qb + s_) / (2 * safe),
+                          np.where(np.abs(qb) > 1e-300, -qc / np.where(qb == 0, 1.0, qb), -1.0))
+                 for s_ in (sq, -sq)]
+    for r in roots:
+        inside = (disc >= 0) & (r > 0) & (r < h)
+        val = b[0] + r * (b[1] + r * (b[2] + r * b[3]))
+        lo = np.where(inside, np.minimum(lo, val), lo)
+        hi = np.where(inside, np.maximum(hi, val), hi)
+    return lo, hi
+
+
+def _solve_axis(S: np.ndarray, dt: float, n_ds: int, y0: float, y1: float, R0: float,
+                lo: float, hi: float) -> tuple[float, float, float, float, int]:
+    """Best (dT1, ym, ydm, J) of one axis: vectorised scan + zoom over dT1.
+
+    ``S[k, j] = sum_{i < j} g_i t_i^k`` (prefix sums, k = 0..3): the constraint coefficients of any
+    candidate dT1 follow in O(1) from the polynomial form of the Hermite basis.
+    """
+    T = n_ds * dt
+    hmin = MIN_SEGMENT * T
+    a, b = hmin, T - hmin
+    best = None
+    evals = 0
+    tol = 1e-12
+    tot = S[:, -1]
+    for _ in range(ZOOMS):
+        h1 = np.linspace(a, b, GRID)
+        h2 = T - h1
+        m = np.minimum(np.floor(h1 / dt + 1e-9).astype(int) + 1, n_ds + 1)  # samples with t_i <= h1
+        P = S[:, m]                      # (4, K): first-segment sums of g t^k
+        Q = tot[:, None] - P             # second segment
+        T1 = Q[1] - h1 * Q[0]
+        T2 = Q[2] - 2 * h1 * Q[1] + h1**2 * Q[0]
+        T3 = Q[3] - 3 * h1 * Q[2] + 3 * h1**2 * Q[1] - h1**3 * Q[0]
+        gP0 = y0 * (2 * P[3] / h1**3 - 3 * P[2] / h1**2 + P[0]) + y1 * (-2 * T3 / h2**3 + 3 * T2 / h2**2)
+        A = (-2 * P[3] / h1**3 + 3 * P[2] / h1**2) + (2 * T3 / h2**3 - 3 * T2 / h2**2 + Q[0])
+        B = (P[3] / h1**2 - P[2] / h1) + (T3 / h2**2 - 2 * T2 / h2 + T1)
+        R = R0 - gP0
+        # KKT of min J s.t. A ym + B ydm = R; grad J = H q + bvec with H = [[Huu, Huv], [Huv, Hvv]]
+        Huu = 24 / h1**3 + 24 / h2**3
+        Huv = -12 / h1**2 + 12 / h2**2
+        Hvv = 8 / h1 + 8 / h2
+        bu = -24 * y0 / h1**3 - 24 * y1 / h2**3
+        bv = 12 * y0 / h1**2 - 12 * y1 / h2**2
+        det = Huu * Hvv - Huv * Huv
+        ia_u, ia_v = (Hvv * A - Huv * B) / det, (-Huv * A + Huu * B) / det
+        ib_u, ib_v = (Hvv * bu - Huv * bv) / det, (-Huv * bu + Huu * bv) / det
+        aHa = A * ia_u + B * ia_v
+        with np.errstate(divide="ignore", invalid="ignore"):
+            mu = -(R + A * ib_u + B * ib_v) / aHa
+        ym = -(ib_u + mu * ia_u)
+        ydm = -(ib_v + mu * ia_v)
+        J = smoothness(h1, h2, y0, ym, ydm, y1)
+        lo1, hi1 = _cubic_range(h1, y0, 0.0, ym, ydm)
+        lo2, hi2 = _cubic_range(h2, ym, ydm, y1, 0.0)
+        pmin, pmax = np.minimum(lo1, lo2), np.maximum(hi1, hi2)
+        ok = np.isfinite(J) & (pmin >= lo - tol) & (pmax <= hi + tol)
+        evals += GRID
+        if not np.any(ok):
+            if best is None:
+                excess = float(np.nanmin(np.maximum(pmax - hi, lo - pmin)))
+                raise InfeasibleError(
+                    f"start/stop: no ZMP inside the support polygon [{lo:.4f}, {hi:.4f}] m reaches the "
+                    f"requested speed (smallest excursion outside {excess:.4f} m); lower the speed or "
+                    "lengthen the double support")
+            break
+        J = np.where(ok, J, np.inf)
+        k = int(np.argmin(J))
+        if best is None or J[k] < best[3]:
+            best = (float(h1[k]), float(ym[k]), float(ydm[k]), float(J[k]))
+        step = (b - a) / (GRID - 1)
+        a, b = max(hmin, h1[k] - step), min(T - hmin, h1[k] + step)
+    assert best is not None
+    return (*best, evals)
+
+
+def solve_switching(prob: SwitchingProblem, horizon: Horizon | None = None) -> SwitchingSolution:
+    """Our fast solver of the start problem (eqs. (15)-(18) plus the smoothness objective).
+
+    Raises:
+        InfeasibleError: no knot keeps the ZMP inside ``[lo, hi]`` for one of the axes.
+    """
+    h = horizon or Horizon(prob.w, prob.dt)
+    g, K = prob.affine_constraint(h)
+    n_ds, T = prob.n_ds, prob.T
+    t = np.arange(n_ds + 1) * prob.dt
+    S = np.zeros((4, n_ds + 2))
+    np.cumsum(g[None, :] * t[None, :] ** np.arange(4)[:, None], axis=1, out=S[:, 1:])
+    res = [_solve_axis(S, prob.dt, n_ds, float(prob.y0[k]), float(prob.y1[k]), float(prob.c0[k] - K[k]),
+                       float(prob.lo[k]), float(prob.hi[k])) for k in range(2)]
+    dT1, ym, ydm, J, ev = (np.array([r[i] for r in res]) for i in range(5))
+    zmp = np.stack([zmp_samples(t, dT1[k], T, prob.y0[k], ym[k], ydm[k], prob.y1[k]) for k in range(2)], axis=1)
+    com = com_of(prob, zmp, h)
+    return SwitchingSolution(dT1, ym, ydm, J, zmp, com, int(ev.sum()))
+
+
+def com_of(prob: SwitchingProblem, zmp_ds: np.ndarray, horizon: Horizon | None = None) -> np.ndarray:
+    """CoM over the horizon (n+1, 2) from the double-support ZMP (n_ds+1, 2) by eq. (13)."""
+    h = horizon or Horizon(prob.w, prob.dt)
+    n = len(prob.w)
+    p = np.empty((n, 2))
+    p[: prob.n_ds + 1] = zmp_ds
+    p[prob.n_ds + 1:] = prob.y1
+    return h.solve(p, np.zeros(2), prob.v_end)
+
+
+def solve_stop(w_stop: np.ndarray, n_ds: int, dt: float, v_start: np.ndarray, foot_offset: np.ndarray,
+               lo: np.ndarray, hi: np.ndarray, ipopt: bool = False) -> tuple[SwitchingSolution, np.ndarray, np.ndarray]:
+    """State Switching 3 by time reversal, in coordinates relative to the last stance foot A.
+
+    The stop horizon runs from a take-off (velocity ``v_start``) through a flight, the last stance
+    on A (ZMP at A = 0) and a double support of ``n_ds`` samples in which the ZMP moves from A to the
+    midpoint of A and B = A + ``foot_offset``, ending at rest with the CoM over that midpoint.
+    Reversing the samples gives a start problem with ``y0 = c0 = offset/2``, ``y1 = 0`` and
+    ``v_end = -v_start``. ``lo``, ``hi`` bound the double-support ZMP relative to A.
+
+    Returns (solution of the reversed problem, CoM (n+1, 2) in forward time relative to A,
+    ZMP over the final double support (n_ds+1, 2) in forward time relative to A).
+    """
+    mid = 0.5 * np.asarray(foot_offset, float)
+    prob = SwitchingProblem(np.asarray(w_stop, float)[::-1].copy(), n_ds, dt, mid, np.zeros(2), mid,
+                            -np.asarray(v_start, float), np.asarray(lo, float), np.asarray(hi, float))
+    sol = solve_switching_ipopt(prob) if ipopt else solve_switching(prob)
+    return sol, sol.com[::-1].copy(), sol.zmp[::-1].copy()
+
+
+# ============================================================================ IPOPT reference
+class IpoptSwitching:
+    """The same start problem for IPOPT through casadi (optional dependency, imported lazily).
+
+    Build once per horizon shape (weights, n_ds, dt) — like the paper's online use — then call
+    :meth:`solve` with the boundary values. Variables per axis: (dT1, dT2, y_m, y'_m) (eq. (16)),
+    constraints (16d), c_0 = c0 through eq. (13), and the ZMP bounds (16g) at every sample.
+    """
+
+    def __init__(self, w: np.ndarray, n_ds: int, dt: float):
+        try:
+            import casadi as ca
+        except ImportError as exc:  # pragma: no cover - depends on the installation
+            raise InfeasibleError("IPOPT needs casadi: pip install 'gaitshift[ipopt]'") from exc
+        self.n_ds, self.dt = n_ds, dt
+        self.T = n_ds * dt
+        probe = SwitchingProblem(np.asarray(w, float), n_ds, dt, np.zeros(2), np.zeros(2), np.zeros(2),
+                                 np.zeros(2), np.zeros(2), np.zeros(2))
+        self.horizon = Horizon(probe.w, dt)
+        g, _ = probe.affine_constraint(self.horizon)
+        t = np.arange(n_ds + 1) * dt
+        x = ca.SX.sym("x", 8)          # per axis k: dT1, dT2, ym, ydm at 4k..4k+3
+        par = ca.SX.sym("par", 8)      # per axis k: y0, y1, R0 (= c0 - K), unused
+        J = 0
+        cons = []
+        for k in range(2):
+            h1, h2, ym, ydm = x[4 * k], x[4 * k + 1], x[4 * k + 2], x[4 * k + 3]
+            y0, y1, R0 = par[4 * k], par[4 * k + 1], par[4 * k + 2]
+            # eq. (18) (corrected b_2) for both segments, eqs. (16b)-(16c)
+            b1 = [y0, 0, (3 * (ym - y0) - ydm * h1) / h1**2, (2 * (y0 - ym) + ydm * h1) / h1**3]
+            b2 = [ym, ydm, (3 * (y1 - ym) - 2 * ydm * h2) / h2**2, (2 * (ym - y1) + ydm * h2) / h2**3]
+            ps = []
+            for ti in t:
+                tau2 = ti - h1
+                seg1 = b1[0] + ti * (b1[1] + ti * (b1[2] + ti * b1[3]))
+                seg2 = b2[0] + tau2 * (b2[1] + tau2 * (b2[2] + tau2 * b2[3]))
+                ps.append(ca.if_else(ti <= h1, seg1, seg2))
+            p = ca.vertcat(*ps)
+            cons += [h1 + h2, ca.dot(ca.DM(g), p) - R0, p]       # (16d), (16e)-(16f), (16g)
+            # smoothness: integral of (2 b2 + 6 b3 t)^2 over [0, h] = 4 b2^2 h + 12 b2 b3 h^2 + 12 b3^2 h^3
+            for b, h in ((b1, h1), (b2, h2)):
+                J += 4 * b[2] ** 2 * h + 12 * b[2] * b[3] * h**2 + 12 * b[3] ** 2 * h**3
+        self.solver = ca.nlpsol("switching", "ipopt", {"x": x, "p": par, "f": J, "g": ca.vertcat(*cons)},
+                                {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": 0,
+                                 "ipopt.tol": 1e-10, "ipopt.constr_viol_tol": 1e-10})
+        self._np = n_ds + 1
+
+    def solve(self, prob: SwitchingProblem) -> SwitchingSolution:
+        """Solve ``prob`` (same horizon as the constructor) from the initial guess dT1 = dT2 = T/2,
+        y_m = (y0 + y1)/2, y'_m = 0."""
+        _, K = prob.affine_constraint(self.horizon)
+        T, hmin = self.T, MIN_SEGMENT * self.T
+        x0, lbx, ubx, par, lbg, ubg = [], [], [], [], [], []
+        for k in range(2):
+            y0, y1 = float(prob.y0[k]), float(prob.y1[k])
+            x0 += [T / 2, T / 2, 0.5 * (y0 + y1), 0.0]
+            lbx += [hmin, hmin, -np.inf, -np.inf]
+            ubx += [T - hmin, T - hmin, np.inf, np.inf]
+            par += [y0, y1, float(prob.c0[k] - K[k]), 0.0]
+            lbg += [T, 0.0] + [float(prob.lo[k])] * self._np
+            ubg += [T, 0.0] + [float(prob.hi[k])] * self._np
+        out = self.solver(x0=x0, lbx=lbx, ubx=ubx, p=par, lbg=lbg, ubg=ubg)
+        if not self.solver.stats()["success"]:
+            raise InfeasibleError(f"IPOPT failed on the start/stop problem: {self.solver.stats()['return_status']}")
+        x = np.asarray(out["x"]).ravel()
+        dT1, ym, ydm = x[[0, 4]], x[[2, 6]], x[[3, 7]]
+        t = np.arange(self.n_ds + 1) * self.dt
+        zmp = np.stack([zmp_samples(t, dT1[k], T, prob.y0[k], ym[k], ydm[k], prob.y1[k]) for k in range(2)], axis=1)
+        J = np.array([smoothness(dT1[k], T - dT1[k], prob.y0[k], ym[k], ydm[k], prob.y1[k]) for k in range(2)])
+        return SwitchingSolution(dT1, ym, ydm, J, zmp, com_of(prob, zmp, self.horizon),
+                                 int(self.solver.stats()["iter_count"]))
+
+
+_IPOPT_CACHE: dict[Any, IpoptSwitching] = {}
+
+
+def solve_switching_ipopt(prob: SwitchingProblem) -> SwitchingSolution:
+    """Solve ``prob`` with IPOPT (the paper's reference); the casadi solver is built once per horizon."""
+    key = (prob.w.tobytes(), prob.n_ds, prob.dt)
+    if key not in _IPOPT_CACHE:
+        _IPOPT_CACHE.clear()
+        _IPOPT_CACHE[key] = IpoptSwitching(prob.w, prob.n_ds, prob.dt)
+    return _IPOPT_CACHE[key].solve(prob)
