@@ -92,3 +92,16 @@ def test_scenarios_lists_the_paper_built_ins(capsys):
     assert code == 0
     for name in ("paper001-table1-running", "paper001-table2-running", "paper001-table2-walk-run-walk"):
         assert name in stdout
+
+
+def test_bench_quick_writes_median_p99_and_baseline_ratios(tmp_path, capsys):
+    out = tmp_path / "bench.json"
+    code, stdout, _ = run(["bench", "--quick", "--only", "stiffness", "--only", "tvlip", "--json", str(out)], capsys)
+    assert code == 0 and "median" in stdout and "p99" in stdout
+    data = json.loads(out.read_text())
+    assert data["quick"] is True and data["machine"]["cores"] >= 1
+    ops = {r["operation"]: r for r in data["results"]}
+    tr = next(r for name, r in ops.items() if name.startswith("T_r solve"))
+    assert tr["median_s"] > 0 and tr["p99_s"] >= tr["median_s"] and tr["ratio"] > 0
+    sizes = [r["size"] for r in data["results"] if r["operation"].startswith("TV-LIPM boundary")]
+    assert any(s.startswith("2000 steps") for s in sizes)

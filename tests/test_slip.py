@@ -224,3 +224,16 @@ def test_calibrated_leg_reproduces_paper_table1_timings():
     assert abs(ts - 0.2) < 1e-6 and abs(t1 + t2 - 0.2) < 1e-6
     # the rounded defaults are the same leg to the stated digits
     assert abs(p.stiffness - P.stiffness) < 50 and abs(p.leg_length - P.leg_length) < 5e-4
+
+
+def test_slip_benchmark_quick_run_produces_complete_rows():
+    """The smoke run of the slip topic: every row has finite times and its baseline (never judged)."""
+    from gaitshift import bench
+
+    rows = [r for r in bench.run(quick=True, only=["slip"]) if "SLIP" in (r.baseline or "")]
+    assert len(rows) == 3
+    for r in rows:
+        assert np.isfinite(r.median_s) and np.isfinite(r.p99_s) and r.median_s <= r.p99_s
+        assert r.baseline_median_s is not None and np.isfinite(r.baseline_median_s)
+    data = json.loads(bench.to_json(rows, quick=True))
+    assert data["quick"] is True and len(data["results"]) == 3

@@ -44,7 +44,7 @@ __all__ = ["SwitchingProblem", "SwitchingSolution", "hermite_coefficients", "smo
 #: shortest cubic segment as a share of T (keeps the Hermite basis well conditioned)
 MIN_SEGMENT = 0.05
 #: grid size of each scan pass over dT1, and number of zoom passes
-GRID, ZOOMS = 64, 3
+GRID, ZOOMS = 513, 1
 
 
 def hermite_coefficients(dT, x0, xd0, x1, xd1) -> np.ndarray:
@@ -152,90 +152,93 @@ def zmp_samples(t: np.ndarray, dT1: float, T: float, y0: float, ym: float, ydm: 
     return (P0 + ym * M + ydm * D)[0]
 
 
-def _cubic_range(h, x0, v0, x1, v1):
-    """Min and max of the Hermite cubic from (x0, v0) to (x1, v1) over [0, h]; broadcasts."""
-    b = hermite_coefficients(h, x0, v0, x1, v1)
-    lo, hi = np.minimum(x0, x1), np.maximum(x0, x1)
-    # stationary points: v0 + 2 b2 t + 3 b3 t^2 = 0
-    qa, qb, qc = 3 * b[3], 2 * b[2], v0 + 0 * h
-    disc = qb * qb - 4 * qa * qc
-    sq = np.sqrt(np.maximum(disc, 0.0))
+def _segment_extreme(h, x0, v0, x1, v1, which):
+    """Value at the interior stationary point of a Hermite cubic on [0, h] with one zero end rate
+    (``which`` = 0: v0 = 0, the other root of y' is -2 b2 / (3 b3); 1: v1 = 0, the other root is
+    v0 / (3 b3 h)), or NaN if that point is outside (0, h). Broadcasts."""
+    b2 = (3.0 * (x1 - x0) - (2.0 * v0 + v1) * h) / (h * h)
+    b3 = (2.0 * (x0 - x1) + (v0 + v1) * h) / (h * h * h)
     with np.errstate(divide="ignore", invalid="ignore"):
-        safe = np.where(np.abs(qa) > 1e-300, qa, 1.0)
-        roots = [np.where(np.abs(qa) > 1e-300, (-qb + s_) / (2 * safe),
-                          np.where(np.abs(qb) > 1e-300, -qc / np.where(qb == 0, 1.0, qb), -1.0))
-                 for s_ in (sq, -sq)]
-    for r in roots:
-        inside = (disc >= 0) & (r > 0) & (r < h)
-        val = b[0] + r * (b[1] + r * (b[2] + r * b[3]))
-        lo = np.where(inside, np.minimum(lo, val), lo)
-        hi = np.where(inside, np.maximum(hi, val), hi)
-    return lo, hi
+        r = -2.0 * b2 / (3.0 * b3) if which == 0 else v0 / (3.0 * b3 * h)
+        val = x0 + r * (v0 + r * (b2 + r * b3))
+    return np.where((r > 0) & (r < h), val, np.nan)
 
 
-def _solve_axis(S: np.ndarray, dt: float, n_ds: int, y0: float, y1: float, R0: float,
-                lo: float, hi: float) -> tuple[float, float, float, float, int]:
-    """Best (dT1, ym, ydm, J) of one axis: vectorised scan + zoom over dT1.
+def _solve_axes(S: np.ndarray, dt: float, n_ds: int, y0: np.ndarray, y1: np.ndarray, R0: np.ndarray,
+                lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+    """Best (dT1, ym, ydm, J) per axis (arrays (2,)): vectorised scan + zoom over dT1.
 
     ``S[k, j] = sum_{i < j} g_i t_i^k`` (prefix sums, k = 0..3): the constraint coefficients of any
-    candidate dT1 follow in O(1) from the polynomial form of the Hermite basis.
+    candidate dT1 follow in O(1) from the polynomial form of the Hermite basis, and the ZMP range of
+    each cubic from its single interior stationary point, so a candidate costs O(1).
     """
     T = n_ds * dt
     hmin = MIN_SEGMENT * T
-    a, b = hmin, T - hmin
-    best = None
+    a, b = np.full(2, hmin), np.full(2, T - hmin)
+    y0, y1, R0, lo, hi = (np.asarray(v, float)[:, None] for v in (y0, y1, R0, lo, hi))
+    best_J = np.full(2, np.inf)
+    best = np.zeros((3, 2))
     evals = 0
     tol = 1e-12
-    tot = S[:, -1]
-    for _ in range(ZOOMS):
-        h1 = np.linspace(a, b, GRID)
+    tot = S[:, -1][:, None, None]
+    lin = np.linspace(0.0, 1.0, GRID)
+    ax = np.arange(2)
+    for zoom in range(ZOOMS):
+        h1 = a[:, None] + (b - a)[:, None] * lin[None, :]          # (2, K)
         h2 = T - h1
         m = np.minimum(np.floor(h1 / dt + 1e-9).astype(int) + 1, n_ds + 1)  # samples with t_i <= h1
-        P = S[:, m]                      # (4, K): first-segment sums of g t^k
-        Q = tot[:, None] - P             # second segment
+        P = S[:, m]                                               # (4, 2, K) first-segment sums
+        Q = tot - P                                               # second segment
+        h1s = h1 * h1
         T1 = Q[1] - h1 * Q[0]
-        T2 = Q[2] - 2 * h1 * Q[1] + h1**2 * Q[0]
-        T3 = Q[3] - 3 * h1 * Q[2] + 3 * h1**2 * Q[1] - h1**3 * Q[0]
-        gP0 = y0 * (2 * P[3] / h1**3 - 3 * P[2] / h1**2 + P[0]) + y1 * (-2 * T3 / h2**3 + 3 * T2 / h2**2)
-        A = (-2 * P[3] / h1**3 + 3 * P[2] / h1**2) + (2 * T3 / h2**3 - 3 * T2 / h2**2 + Q[0])
-        B = (P[3] / h1**2 - P[2] / h1) + (T3 / h2**2 - 2 * T2 / h2 + T1)
-        R = R0 - gP0
-        # KKT of min J s.t. A ym + B ydm = R; grad J = H q + bvec with H = [[Huu, Huv], [Huv, Hvv]]
-        Huu = 24 / h1**3 + 24 / h2**3
-        Huv = -12 / h1**2 + 12 / h2**2
-        Hvv = 8 / h1 + 8 / h2
-        bu = -24 * y0 / h1**3 - 24 * y1 / h2**3
-        bv = 12 * y0 / h1**2 - 12 * y1 / h2**2
+        T2 = Q[2] - 2 * h1 * Q[1] + h1s * Q[0]
+        T3 = Q[3] - 3 * h1 * Q[2] + 3 * h1s * Q[1] - h1s * h1 * Q[0]
+        i1, i2 = 1.0 / h1, 1.0 / h2
+        i1s, i2s = i1 * i1, i2 * i2
+        i1c, i2c = i1s * i1, i2s * i2
+        a1 = 3 * P[2] * i1s - 2 * P[3] * i1c          # sum g h01 over the first segment
+        a2 = 3 * T2 * i2s - 2 * T3 * i2c              # sum g h01 over the second segment
+        A = Q[0] - a2 + a1
+        B = (P[3] * i1s - P[2] * i1) + (T3 * i2s - 2 * T2 * i2 + T1)
+        R = R0 - y0 * (P[0] - a1) - y1 * a2
+        # KKT of min J s.t. A ym + B ydm = R; J = q.H.q/2 + bvec.q + J0, H = [[Huu, Huv], [Huv, Hvv]]
+        Huu = 24 * (i1c + i2c)
+        Huv = 12 * (i2s - i1s)
+        Hvv = 8 * (i1 + i2)
+        bu = -24 * (y0 * i1c + y1 * i2c)
+        bv = 12 * (y0 * i1s - y1 * i2s)
+        # adj(H) applied to a = (A, B) and to bvec (the 1/det factor cancels in mu)
+        ia_u, ia_v = Hvv * A - Huv * B, Huu * B - Huv * A
+        ib_u, ib_v = Hvv * bu - Huv * bv, Huu * bv - Huv * bu
         det = Huu * Hvv - Huv * Huv
-        ia_u, ia_v = (Hvv * A - Huv * B) / det, (-Huv * A + Huu * B) / det
-        ib_u, ib_v = (Hvv * bu - Huv * bv) / det, (-Huv * bu + Huu * bv) / det
-        aHa = A * ia_u + B * ia_v
         with np.errstate(divide="ignore", invalid="ignore"):
-            mu = -(R + A * ib_u + B * ib_v) / aHa
-        ym = -(ib_u + mu * ia_u)
-        ydm = -(ib_v + mu * ia_v)
-        J = smoothness(h1, h2, y0, ym, ydm, y1)
-        lo1, hi1 = _cubic_range(h1, y0, 0.0, ym, ydm)
-        lo2, hi2 = _cubic_range(h2, ym, ydm, y1, 0.0)
-        pmin, pmax = np.minimum(lo1, lo2), np.maximum(hi1, hi2)
+            mu = -(R * det + A * ib_u + B * ib_v) / (A * ia_u + B * ia_v)
+            ym = -(ib_u + mu * ia_u) / det
+            ydm = -(ib_v + mu * ia_v) / det
+        J = 0.5 * (Huu * ym * ym + 2 * Huv * ym * ydm + Hvv * ydm * ydm) + bu * ym + bv * ydm \
+            + 12 * (y0 * y0 * i1c + y1 * y1 * i2c)
+        e1 = _segment_extreme(h1, y0, 0.0, ym, ydm, 0)
+        e2 = _segment_extreme(h2, ym, ydm, y1, 0.0, 1)
+        pmin = np.fmin(np.fmin(e1, e2), np.minimum(np.minimum(y0, y1), ym))
+        pmax = np.fmax(np.fmax(e1, e2), np.maximum(np.maximum(y0, y1), ym))
         ok = np.isfinite(J) & (pmin >= lo - tol) & (pmax <= hi + tol)
-        evals += GRID
-        if not np.any(ok):
-            if best is None:
-                excess = float(np.nanmin(np.maximum(pmax - hi, lo - pmin)))
-                raise InfeasibleError(
-                    f"start/stop: no ZMP inside the support polygon [{lo:.4f}, {hi:.4f}] m reaches the "
-                    f"requested speed (smallest excursion outside {excess:.4f} m); lower the speed or "
-                    "lengthen the double support")
-            break
+        evals += 2 * GRID
         J = np.where(ok, J, np.inf)
-        k = int(np.argmin(J))
-        if best is None or J[k] < best[3]:
-            best = (float(h1[k]), float(ym[k]), float(ydm[k]), float(J[k]))
+        k = np.argmin(J, axis=1)
+        Jk = J[ax, k]
+        if zoom == 0 and not np.all(np.isfinite(Jk)):
+            bad = int(np.argmin(np.isfinite(Jk)))
+            excess = float(np.nanmin(np.maximum(pmax[bad] - hi[bad], lo[bad] - pmin[bad])))
+            raise InfeasibleError(
+                f"start/stop ({'xy'[bad]} axis): no ZMP inside the support polygon "
+                f"[{float(lo[bad, 0]):.4f}, {float(hi[bad, 0]):.4f}] m reaches the requested speed (smallest "
+                f"excursion outside {excess:.4f} m); lower the speed or lengthen the double support")
+        better = Jk < best_J
+        best_J = np.where(better, Jk, best_J)
+        best = np.where(better, np.stack([h1[ax, k], ym[ax, k], ydm[ax, k]]), best)
         step = (b - a) / (GRID - 1)
-        a, b = max(hmin, h1[k] - step), min(T - hmin, h1[k] + step)
-    assert best is not None
-    return (*best, evals)
+        a, b = np.maximum(hmin, best[0] - step), np.minimum(T - hmin, best[0] + step)
+    return best[0], best[1], best[2], best_J, evals
 
 
 def solve_switching(prob: SwitchingProblem, horizon: Horizon | None = None) -> SwitchingSolution:
@@ -250,12 +253,11 @@ def solve_switching(prob: SwitchingProblem, horizon: Horizon | None = None) -> S
     t = np.arange(n_ds + 1) * prob.dt
     S = np.zeros((4, n_ds + 2))
     np.cumsum(g[None, :] * t[None, :] ** np.arange(4)[:, None], axis=1, out=S[:, 1:])
-    res = [_solve_axis(S, prob.dt, n_ds, float(prob.y0[k]), float(prob.y1[k]), float(prob.c0[k] - K[k]),
-                       float(prob.lo[k]), float(prob.hi[k])) for k in range(2)]
-    dT1, ym, ydm, J, ev = (np.array([r[i] for r in res]) for i in range(5))
+    dT1, ym, ydm, J, ev = _solve_axes(S, prob.dt, n_ds, prob.y0, prob.y1, np.asarray(prob.c0) - K,
+                                      prob.lo, prob.hi)
     zmp = np.stack([zmp_samples(t, dT1[k], T, prob.y0[k], ym[k], ydm[k], prob.y1[k]) for k in range(2)], axis=1)
     com = com_of(prob, zmp, h)
-    return SwitchingSolution(dT1, ym, ydm, J, zmp, com, int(ev.sum()))
+    return SwitchingSolution(dT1, ym, ydm, J, zmp, com, ev)
 
 
 def com_of(prob: SwitchingProblem, zmp_ds: np.ndarray, horizon: Horizon | None = None) -> np.ndarray:

@@ -37,7 +37,11 @@ def _shade_phases(ax, traj: Trajectory) -> None:
 
 def top_view(traj: Trajectory, path: Path) -> Path:
     """Fig. 8: footprints, ZMP, CoM and capture points (support only)."""
-    fig, ax = plt.subplots(figsize=(11, 3.6))
+    fs_xy = traj.footsteps[:, :2]
+    span = np.ptp(np.vstack([fs_xy, traj.com_pos[:, :2]]), axis=0) + 0.4
+    width = 12.0
+    stretched = span[0] > 4 * span[1]
+    fig, ax = plt.subplots(figsize=(width, 4.5 if stretched else float(np.clip(width * span[1] / span[0], 2.5, 9.0)) + 1.0))
     for fs, side in zip(traj.footsteps, traj.footstep_side):
         ax.add_patch(Polygon(sole_corners(fs, traj.meta["foot_size"]), closed=True, fill=False,
                              ec="tab:blue" if side == 0 else "tab:red", lw=1))
@@ -46,10 +50,11 @@ def top_view(traj: Trajectory, path: Path) -> Path:
     ax.plot(np.where(sup, traj.zmp[:, 0], np.nan), np.where(sup, traj.zmp[:, 1], np.nan), "g-", lw=1.2, label="ZMP")
     mask, xi = capture_point(traj)
     ax.plot(xi[:, 0], xi[:, 1], ".", ms=1.5, color="tab:purple", label="capture point (support)")
-    ax.set_aspect("equal")
+    if not stretched:
+        ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.legend(loc="upper left", fontsize=8)
+    ax.set_ylabel("y [m]" + (" (stretched)" if stretched else ""))
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=3, fontsize=8)
     ax.set_title("Top view: footprints (blue left, red right), CoM, ZMP, capture point")
     return _save(fig, path)
 

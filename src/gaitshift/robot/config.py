@@ -317,6 +317,9 @@ def _compile(mjcf: Path, sole_bodies: tuple[str, str], sole_offsets: tuple, scen
         spec.visual.global_.offwidth = 1920
         spec.visual.global_.offheight = 1080
         spec.visual.quality.shadowsize = 0
+        spec.visual.quality.offsamples = 0  # no multisampling: software GL renders several times faster
+        spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
+        spec.visual.headlight.diffuse = [0.65, 0.65, 0.65]
         world = spec.worldbody
         world.add_light(pos=[0, 0, 4], dir=[0, 0, -1], type=int(mujoco.mjtLightType.mjLIGHT_DIRECTIONAL), castshadow=0,
                         diffuse=[0.6, 0.6, 0.6])

@@ -467,3 +467,17 @@ def wholebody(traj: Trajectory | str | Path, robot: "str | Path | RobotConfig" =
     if not isinstance(traj, Trajectory):
         traj = Trajectory.load(traj)
     return WholeBodyIK(robot, settings).solve(traj, rate)
+
+
+def load_plan(source: "Trajectory | str | Path") -> Trajectory:
+    """A plan from a trajectory file (.npz/.csv/.json), or planned from a scenario (built-in name or
+    .yaml path)."""
+    if isinstance(source, Trajectory):
+        return source
+    path = Path(str(source))
+    if path.suffix.lower() in (".npz", ".csv", ".json"):
+        return Trajectory.load(path)
+    from .. import plan
+    from ..scenario import load_scenario
+
+    return plan(load_scenario(str(source)))

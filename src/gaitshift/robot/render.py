@@ -176,6 +176,25 @@ def render_video(joints: Any, out: str | Path, robot: "str | Path | RobotConfig 
     return out
 
 
+def animate(source: Any, out: str | Path, robot: "str | Path | RobotConfig" = "g1", rate: float | None = 500.0,
+            fps: float = 30.0, width: int = 640, height: int = 360, joints: Any = None) -> tuple[Path, Any]:
+    """Plan (or load) ``source``, solve the whole-body IK for ``robot`` at ``rate`` Hz (unless ``joints``
+    are given) and write the MP4. Returns (path, joints)."""
+    from .ik import load_plan, subsample, wholebody
+
+    traj = load_plan(source)
+    if joints is None:
+        joints = wholebody(traj, robot, rate=rate)
+        traj = subsample(traj, rate)
+    else:
+        dt_j = float(joints.t[1] - joints.t[0]) if len(joints.t) > 1 else traj.dt
+        traj = subsample(traj, 1.0 / dt_j)
+        if len(traj) != len(joints.t):
+            raise InputError("joints", f"{len(joints.t)} samples", f"the {len(traj)} samples of the plan at the "
+                             "joints' rate")
+    return render_video(joints, out, robot=robot, traj=traj, fps=fps, width=width, height=height), joints
+
+
 def _render_in_child(robot: RobotConfig, traj: Trajectory | None, joints: Any, out: Path, fps: float,
                      width: int, height: int, backend: str) -> None:
     """Render in a fresh interpreter whose PyOpenGL platform is ``backend``."""

@@ -109,5 +109,5 @@ def scenario_yaml(scenario: Any, header: str = "") -> str:
             return {k: _round(x) for k, x in v.items() if x is not None}
         return v
 
-    body = yaml.safe_dump(_round(data), sort_keys=False, default_flow_style=None, width=110)
+    body = yaml.safe_dump(_round(data), sort_keys=False, default_flow_style=None, width=110, allow_unicode=True)
     return "".join(f"# {line}\n" for line in header.splitlines()) + body

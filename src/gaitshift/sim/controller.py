@@ -51,9 +51,9 @@ class Gains:
     w_com: float = 100.0
     w_angmom: float = 0.5
     angmom_kd: float = 10.0
-    swing_kp: float = 400.0
-    swing_kd: float = 40.0
-    w_swing: float = 10.0
+    swing_kp: float = 900.0
+    swing_kd: float = 60.0
+    w_swing: float = 100.0
     w_swing_rot: float = 3.0
     torso_kp: float = 200.0
     torso_kd: float = 30.0
@@ -98,6 +98,9 @@ class TickInfo:
     ok: bool = True
     solver: str = "daqp"
     forces: np.ndarray = field(default_factory=lambda: np.zeros((2, 3)))
+    qdd: np.ndarray | None = None
+    contact_forces: np.ndarray | None = None   # (3k,) world-frame point forces
+    contact_jacobian: np.ndarray | None = None  # (3k, nv)
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
@@ -305,4 +308,5 @@ class WholeBodyController:
         for j, s in enumerate(stance):
             forces[s] = f[12 * j:12 * j + 12].reshape(4, 3).sum(axis=0)
         info.forces = forces
+        info.qdd, info.contact_forces, info.contact_jacobian = qdd, f, Jc
         return np.clip(tau, -p.torque_limit, p.torque_limit), info

@@ -61,7 +61,8 @@ class SimOptions:
     liftoff_ramp: float = 0.01          # s: unloading before a planned lift-off
     early_touchdown_u: float = 0.6      # swing progress after which a contact counts as touchdown
     late_descent_speed: float = 0.3     # m/s: how fast a late foot keeps going down
-    capture_gain: float = 1.0
+    capture_gain: float = 0.0
+    flight_clearance: float = 0.02      # m: extra parabolic lift of swings that span a flight
     max_step_adjust: float = 0.10       # m
     settle: float = 0.0                 # s of standing before the plan starts
     pushes: tuple[Push, ...] = ()
@@ -215,7 +216,8 @@ class FootScheduler:
         self.swing_start = np.zeros(2)
         self.swing_end = np.zeros(2)
         self.offset = np.zeros((2, 3))
-        self.offset_from = np.zeros((2, 3))
+        self.swing_flight = np.zeros(2, bool)
+        self.lift_at = np.array([self.next_time(pre["lift"][k], 0.0) for k in (0, 1)])
 
     def next_time(self, times: np.ndarray, t: float) -> float:
         i = np.searchsorted(times, t - 1e-9)
@@ -225,16 +227,21 @@ class FootScheduler:
         planned = self.traj.contact[i]
         for s in (0, 1):
             if self.stance[s]:
-                if not planned[s] and t >= self.t_touch[s] + self.opts.touchdown_ramp:
+                if t >= self.lift_at[s] - 1e-9 and t >= self.t_touch[s] + self.opts.touchdown_ramp:
                     self.stance[s] = False
                     self.swing_start[s] = t
                     self.swing_end[s] = self.next_time(self.pre["land"][s], t)
+                    j0 = int(round(t / self.traj.dt))
+                    j1 = int(round(min(self.swing_end[s], float(self.traj.t[-1])) / self.traj.dt))
+                    self.swing_flight[s] = bool(np.any(self.traj.phase[j0:j1 + 1] == FLIGHT))
             else:
                 dur = max(self.swing_end[s] - self.swing_start[s], 1e-6)
                 u = (t - self.swing_start[s]) / dur
                 if touching[s] and (planned[s] or u >= self.opts.early_touchdown_u):
                     self.stance[s] = True
                     self.t_touch[s] = t
+                    # the stance lasts until the plan's lift-off that follows the planned touchdown
+                    self.lift_at[s] = self.next_time(self.pre["lift"][s], max(t, self.swing_end[s]))
 
     def force_caps(self, t: float) -> np.ndarray:
         caps = np.zeros(2)
@@ -242,7 +249,7 @@ class FootScheduler:
             if not self.stance[s]:
                 continue
             up = 1.0 if self.t_touch[s] < 0 else min(1.0, (t - self.t_touch[s]) / self.opts.touchdown_ramp)
-            t_lift = self.next_time(self.pre["lift"][s], t)
+            t_lift = self.lift_at[s]
             down = min(1.0, max(0.0, (t_lift - t) / self.opts.liftoff_ramp))
             caps[s] = self.full * min(up, down) + 1e-3
         return caps
@@ -307,6 +314,7 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
     next_frame = 0.0
     fell, fall_time, reason = False, math.nan, ""
     wall0 = time.perf_counter()
+    render_wall = 0.0
     cf = np.zeros(6)
     n_done = n_ticks
     for k in range(n_ticks):
@@ -357,6 +365,12 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
             dur = max(sched.swing_end[s] - sched.swing_start[s], 1e-6)
             u = (tp - sched.swing_start[s]) / dur
             foot_ref[s] += sched.offset[s] * min_jerk(np.array(u))
+            if sched.swing_flight[s] and 0.0 <= u <= 1.0:
+                # running swing: lift off and set down with a vertical speed (parabolic bump)
+                hb = opts.flight_clearance
+                foot_ref[s, 2] += 4.0 * hb * u * (1.0 - u)
+                foot_vel[s, 2] += 4.0 * hb * (1.0 - 2.0 * u) / dur
+                foot_acc[s, 2] += -8.0 * hb / dur**2
             if traj.contact[i, s] and u > 1.0:  # late touchdown: keep descending
                 late = tp - sched.swing_end[s]
                 foot_ref[s, 2] -= opts.late_descent_speed * late
@@ -388,12 +402,14 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
         log["plan_index"][k] = i
         log["qp_ok"][k] = info.ok
         if renderer is not None and t >= next_frame:
+            r0 = time.perf_counter()
             frames.append(_render(renderer, d, com))
             next_frame += 1.0 / opts.video_fps
+            render_wall += time.perf_counter() - r0
         if viewer is not None:
             viewer.sync()
         mujoco.mj_step(m, d)
-    wall = time.perf_counter() - wall0
+    wall = time.perf_counter() - wall0 - render_wall  # control + physics only
     arrays = {k_: v[:n_done] for k_, v in log.items()}
     sim_time = n_done * dt
     meta = {

@@ -1,0 +1,70 @@
+"""Whole-body commands: robots, wholebody (IK to joint trajectories), animate (MP4)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from .app import app
+
+_SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a scenario (built-in name or YAML)."
+
+
+@app.command("robots")
+def robots_cmd() -> None:
+    """List the built-in robots with the numbers read from their models."""
+    from ..robot import builtin_robots, load_robot
+
+    for name in builtin_robots():
+        r = load_robot(name)
+        typer.echo(f"{name:4s} {r.description}: {r.mass:.1f} kg, {len(r.joint_names)} joints, CoM height "
+                   f"{r.com_height:.3f} m, leg length {r.leg_length:.3f} m, soles {r.sole_size[0]:.3f} x "
+                   f"{r.sole_size[1]:.3f} m")
+
+
+@app.command("wholebody")
+def wholebody_cmd(
+    file: str = typer.Argument(..., help=_SOURCE_HELP),
+    robot: str = typer.Option("g1", "--robot", help="Built-in robot name (g1, t1) or robot YAML path."),
+    out: Path = typer.Option(..., "--out", help="Output .npz with t, qpos, qvel and meta (JSON)."),
+    rate: Optional[float] = typer.Option(None, "--rate", help="Output rate, Hz (1/(k dt)); default: plan step."),
+) -> None:
+    """Whole-body IK: joint trajectories that reproduce the planned CoM and sole poses."""
+    from ..errors import InputError
+    from ..robot.ik import load_plan, wholebody
+
+    if out.suffix.lower() != ".npz":
+        raise InputError("--out", str(out), "a file ending in .npz")
+    joints = wholebody(load_plan(file), robot, rate=rate)
+    joints.save(out)
+    ik = joints.meta["ik"]
+    typer.echo(f"{joints.meta['robot']}: {len(joints.t)} samples over {joints.t[-1] - joints.t[0]:.3f} s; max "
+               f"error CoM {ik['max_com_error_m'] * 1e3:.3f} mm, soles {ik['max_sole_position_error_m'] * 1e3:.3f} "
+               f"mm / {ik['max_sole_orientation_error_rad']:.2e} rad; IK {ik['total_time_s']:.2f} s "
+               f"({ik['time_per_sample_median_s'] * 1e3:.3f} ms/sample median)")
+    typer.echo(f"wrote {out}")
+
+
+@app.command("animate")
+def animate_cmd(
+    file: str = typer.Argument(..., help=_SOURCE_HELP),
+    robot: str = typer.Option("g1", "--robot", help="Built-in robot name (g1, t1) or robot YAML path."),
+    out: Path = typer.Option(..., "--out", help="Output .mp4."),
+    joints: Optional[Path] = typer.Option(None, "--joints", help="Reuse joint trajectories from `gaitshift wholebody`."),
+    rate: float = typer.Option(500.0, "--rate", help="IK rate, Hz (when --joints is not given)."),
+    fps: float = typer.Option(30.0, "--fps", help="Video frame rate, Hz."),
+    width: int = typer.Option(640, "--width", help="Video width, pixels (even)."),
+    height: int = typer.Option(360, "--height", help="Video height, pixels (even)."),
+) -> None:
+    """Offscreen MP4 of the whole-body motion with the CoM, ZMP and footsteps drawn."""
+    from ..errors import InputError
+    from ..robot.ik import JointTrajectory
+    from ..robot.render import animate
+
+    if out.suffix.lower() != ".mp4":
+        raise InputError("--out", str(out), "a file ending in .mp4")
+    jt = JointTrajectory.load(joints) if joints is not None else None
+    path, _ = animate(file, out, robot=robot, rate=rate, fps=fps, width=width, height=height, joints=jt)
+    typer.echo(f"wrote {path}")
