@@ -105,3 +105,24 @@ def test_bench_quick_writes_median_p99_and_baseline_ratios(tmp_path, capsys):
     assert tr["median_s"] > 0 and tr["p99_s"] >= tr["median_s"] and tr["ratio"] > 0
     sizes = [r["size"] for r in data["results"] if r["operation"].startswith("TV-LIPM boundary")]
     assert any(s.startswith("2000 steps") for s in sizes)
+
+
+def test_check_passes_a_plan_and_fails_a_corrupted_one(tmp_path, capsys):
+    import numpy as np
+
+    import gaitshift
+    from gaitshift.trajectory import Trajectory
+
+    sc = gaitshift.load_scenario({"gait": [{"gait": "walk", "steps": 1}, {"gait": "run", "steps": 2},
+                                           {"gait": "walk", "steps": 2}]})
+    traj = gaitshift.plan(sc)
+    good = traj.save(tmp_path / "good.npz")
+    code, stdout, _ = run(["check", str(good)], capsys)
+    assert code == 0 and "FAIL" not in stdout
+    arrays = traj.arrays()
+    arrays["com_pos"] = arrays["com_pos"].copy()
+    arrays["com_pos"][len(traj) // 2:, 0] += 0.01  # a 1 cm jump in the middle
+    bad = Trajectory.from_arrays(arrays, traj.meta).save(tmp_path / "bad.npz")
+    code, stdout, _ = run(["check", str(bad), "--json"], capsys)
+    rep = json.loads(stdout)
+    assert code == 1 and not rep["pass"]["position_jump"] and not rep["pass"]["zmp_identity"]

@@ -64,3 +64,10 @@ def test_failed_write_leaves_no_partial_file(traj, tmp_path, monkeypatch):
     with pytest.raises(OSError):
         traj.save(tmp_path / "plan.npz")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_csv_keeps_text_that_contains_nan(tmp_path):
+    sc = gaitshift.load_scenario({"description": "Hanasaki and Tazaki, nan-free", "gait": [{"gait": "walk", "steps": 1}],
+                                  "dt": 0.02})
+    back = Trajectory.load(gaitshift.plan(sc).save(tmp_path / "p.csv"))
+    assert back.meta["scenario"]["description"] == "Hanasaki and Tazaki, nan-free"

@@ -47,12 +47,17 @@ def zmp_support_margin(traj: Trajectory) -> np.ndarray:
     feet = traj.foot_pos[mask]
     contact = traj.contact[mask]
     yaw_of = _foot_yaw(traj)[mask]
-    for i in range(len(zmp)):  # analysis only, not a hot path
+    # one hull per distinct (contact, feet) configuration: feet do not move while in contact
+    key = np.round(np.where(contact[:, :, None], feet, np.nan), 9).reshape(len(zmp), -1)
+    _, inverse = np.unique(np.nan_to_num(key, nan=1e9), axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    for u in np.unique(inverse):
+        rows = np.flatnonzero(inverse == u)
+        i = rows[0]
         pts = np.vstack([sole_corners(np.r_[feet[i, s], yaw_of[i, s]], foot_size)
                          for s in (0, 1) if contact[i, s]])
-        hull = ConvexHull(pts)
-        eq = hull.equations  # a.x + b <= 0 inside
-        out[i] = -np.max(eq[:, :2] @ zmp[i] + eq[:, 2])
+        eq = ConvexHull(pts).equations  # a.x + b <= 0 inside
+        out[rows] = -np.max(zmp[rows] @ eq[:, :2].T + eq[:, 2], axis=1)
     return out
 
 
@@ -64,3 +69,51 @@ def _foot_yaw(traj: Trajectory) -> np.ndarray:
         d = np.linalg.norm(traj.foot_pos[:, s, None, :2] - fs[None, :, :2], axis=2)
         yaw[:, s] = fs[np.argmin(d, axis=1), 3]
     return yaw
+
+
+def physics_report(traj: Trajectory) -> dict[str, float]:
+    """Worst-case physics errors of a trajectory file, planner-independent.
+
+    * ``zmp_identity``: max |zmp_xy - (p_xy - (p_z - zmp_z)/(p''_z + g) p''_xy)| in support, m. This is
+      eq. (2) of paper 003 and, with T^2 = (p_z - c_z)/(p''_z + g), the horizontal part of eq. (1) of 001.
+    * ``flight_acc``: max |p'' + g e_z| in flight, m/s^2.
+    * ``min_vertical_force``: min (p''_z + g) in support, m/s^2 (must be > 0: no pulling ground).
+    * ``fd_velocity``, ``fd_acceleration``: max mismatch of com_vel/com_acc against central differences
+      of com_pos/com_vel away from phase switches, m/s and m/s^2.
+    * ``position_jump``: max |p_i+1 - p_i - dt (v_i + v_i+1)/2| over all samples, m (continuity).
+    * ``zmp_outside``: max distance of the ZMP outside the support polygon, m (<= 0 inside).
+    * ``start_speed``, ``end_speed``: |v| at the first and last sample, m/s.
+    """
+    g = traj.gravity
+    p, v, a = traj.com_pos, traj.com_vel, traj.com_acc
+    sup = traj.phase != FLIGHT
+    denom = a[sup, 2] + g
+    pred = p[sup, :2] - ((p[sup, 2] - traj.zmp[sup, 2]) / denom)[:, None] * a[sup, :2]
+    rep: dict[str, float] = {
+        "zmp_identity": float(np.max(np.abs(traj.zmp[sup, :2] - pred))) if sup.any() else 0.0,
+        "flight_acc": float(np.max(np.abs(a[~sup] + [0, 0, g]))) if (~sup).any() else 0.0,
+        "min_vertical_force": float(np.min(denom)) if sup.any() else float("inf"),
+    }
+    dt = traj.dt
+    switch = np.zeros(len(traj), bool)
+    edges = np.flatnonzero(np.diff(traj.phase) != 0) + 1
+    bt = traj.extras.get("boundary_t")
+    if bt is not None:
+        edges = np.r_[edges, np.searchsorted(traj.t, np.asarray(bt) - 1e-9)]
+    for off in (-2, -1, 0, 1):
+        switch[np.clip(edges + off, 0, len(traj) - 1)] = True
+    inner = ~(switch[:-2] | switch[1:-1] | switch[2:])
+    vfd = (p[2:] - p[:-2]) / (2 * dt)
+    afd = (v[2:] - v[:-2]) / (2 * dt)
+    rep["fd_velocity"] = float(np.max(np.abs(vfd - v[1:-1])[inner])) if inner.any() else 0.0
+    rep["fd_acceleration"] = float(np.max(np.abs(afd - a[1:-1])[inner])) if inner.any() else 0.0
+    rep["position_jump"] = float(np.max(np.abs(p[1:] - p[:-1] - dt * (v[1:] + v[:-1]) / 2)))
+    rep["zmp_outside"] = float(-np.min(zmp_support_margin(traj))) if sup.any() else 0.0
+    rep["start_speed"] = float(np.linalg.norm(v[0]))
+    rep["end_speed"] = float(np.linalg.norm(v[-1]))
+    return rep
+
+
+#: Pass thresholds of ``gaitshift check`` (same units as :func:`physics_report`).
+CHECK_LIMITS = {"zmp_identity": 1e-6, "flight_acc": 1e-9, "fd_velocity": 1e-3, "fd_acceleration": 1e-2,
+                "position_jump": 1e-5, "zmp_outside": 1e-3, "start_speed": 1e-3, "end_speed": 1e-3}

@@ -190,10 +190,11 @@ class Trajectory:
         buf.write("# shapes: " + json.dumps({k: list(np.shape(v)[1:]) for k, v in self.arrays().items()
                                                if k not in ("footsteps", "footstep_side")
                                                and len(v) == len(self.t)}) + "\n")
-        writer = csv.writer(buf, lineterminator="\n")
-        writer.writerow(cols)
-        writer.writerows(np.hstack(blocks).tolist())
-        return buf.getvalue().replace("nan", "")
+        buf.write(",".join(cols) + "\n")
+        body = _io.StringIO()
+        np.savetxt(body, np.hstack(blocks), fmt="%.17g", delimiter=",")
+        buf.write(body.getvalue().replace("nan", ""))  # numeric block only: NaN -> empty cell
+        return buf.getvalue()
 
 
 def _null_from_nan(arr: np.ndarray) -> Any:

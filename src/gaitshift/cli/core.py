@@ -112,3 +112,28 @@ def demo_cmd(
 
 #: Further demo steps registered by optional layers (whole-body video, simulation): f(out, video).
 DEMO_HOOKS: list = []
+
+
+@app.command("check")
+def check_cmd(
+    file: Path = typer.Argument(..., help="Trajectory file (.npz, .csv, .json)."),
+    as_json: bool = typer.Option(False, "--json", help="Print the report as JSON."),
+) -> None:
+    """Verify a trajectory file's physics: ZMP identity, flight, continuity, support polygon, rest.
+
+    Exits 0 when every error is within its limit, 1 otherwise.
+    """
+    from ..analysis import CHECK_LIMITS, physics_report
+
+    rep = physics_report(Trajectory.load(file))
+    ok = {k: rep[k] <= lim for k, lim in CHECK_LIMITS.items()}
+    ok["min_vertical_force"] = rep["min_vertical_force"] > 0
+    if as_json:
+        typer.echo(json.dumps({"report": rep, "pass": ok, "limits": CHECK_LIMITS}))
+    else:
+        for k, val in rep.items():
+            lim = CHECK_LIMITS.get(k)
+            bound = f"<= {lim:g}" if lim is not None else "> 0"
+            typer.echo(f"{'ok  ' if ok[k] else 'FAIL'} {k:20s} {val:.3e}  ({bound})")
+    if not all(ok.values()):
+        raise typer.Exit(1)

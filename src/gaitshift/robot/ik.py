@@ -70,6 +70,7 @@ class IKSettings:
         knee_margin: a knee within this angle (rad) of straight is a singularity.
         torso_cost, posture_cost, arm_cost: weights of the soft tasks (unitless, per rad).
         damping: Levenberg-Marquardt damping of the QP.
+        extrapolate: warm-start each sample at q_{k-1} ⊕ (q_{k-1} ⊖ q_{k-2}) (else at q_{k-1}).
     """
 
     com_tol: float = 1e-3
@@ -84,6 +85,7 @@ class IKSettings:
     posture_cost: float = 0.02
     arm_cost: float = 0.5
     damping: float = 1e-6
+    extrapolate: bool = True
 
 
 @dataclass(frozen=True)
@@ -393,7 +395,7 @@ class WholeBodyIK:
         v_prev = np.zeros(m.nv)
         for k in range(n):
             t0 = time.perf_counter()
-            if k >= 2:
+            if k >= 2 and s.extrapolate:
                 mujoco.mj_integratePos(m, q, v_prev, 1.0)
                 q[self._qadr] = np.clip(q[self._qadr], self._lo, self._hi)
             qk, err, it, failure = self._solve_sample(q, com_all[k], feet_all[k], yaw_all[k],
@@ -409,6 +411,8 @@ class WholeBodyIK:
             errs[k] = err
             iters[k] = it
             sample_time[k] = time.perf_counter() - t0
+        self.last_sample_times = sample_time
+        self.last_iterations = iters
         qvel = joint_velocities(m, qpos, dt)
         self._check_velocities(traj.t, qvel)
         return JointTrajectory(traj.t.copy(), qpos, qvel, self._meta(traj, errs, iters, sample_time))

@@ -30,27 +30,34 @@ from ..errors import InputError
 from ..scenario import load_scenario
 from .config import RobotConfig, load_robot
 
-#: Dotted keys multiplied by lambda, per planner. Missing keys are skipped.
+#: Dotted keys multiplied by lambda, per planner (lengths, and speeds of a gait whose timing is kept).
 LENGTH_KEYS: dict[str, tuple[str, ...]] = {
     "tvlip": ("profile.max_stride", "profile.step_height", "limits.max_stride", "limits.max_step_height",
               "swing_height", "foot.zmp_margin", "foot.zmp_z"),
-    "vhip": ("profile.max_stride", "profile.step_height", "limits.max_stride", "limits.max_step_height",
-             "swing_height", "foot.zmp_margin", "foot.zmp_z", "stride", "max_stride", "step_length",
-             "step_height", "leg_length", "rest_length"),
+    "vhip": ("heights.stand", "heights.touchdown", "heights.takeoff", "heights.z_low", "foot.zmp_margin",
+             "foot.zmp_z", "limits.max_speed", "limits.max_stride", "limits.max_accel_per_step", "swing_apex"),
 }
-#: Dotted keys whose value is a speed (m/s) of a gait with unchanged timing: scaled by lambda.
-SPEED_KEYS = ("command.speeds", "command.speed", "speeds", "speed", "max_speed", "velocity", "velocities")
+
+
+def nominal_height(scenario: Any) -> float:
+    """The scenario's nominal CoM height, m: ``height`` (TV-LIPM) or ``heights.stand`` (VHIP)."""
+    if scenario.planner == "vhip":
+        return float(scenario.heights.stand)
+    return float(scenario.height)
 
 
 def scale_factor(scenario: Any, robot: "str | Path | RobotConfig") -> float:
-    """lambda = robot nominal CoM height / scenario CoM height (rule 1 of the module docstring)."""
+    """lambda = robot nominal CoM height / scenario nominal CoM height (rule 1 of the module docstring)."""
     robot = load_robot(robot)
-    return robot.com_height / float(scenario.height)
+    return robot.com_height / nominal_height(scenario)
 
 
 def scale_scenario(scenario: Any, robot: "str | Path | RobotConfig", name: str | None = None) -> Any:
     """The scenario (object, built-in name or path) scaled to ``robot`` by the rule of this module.
 
+    TV-LIPM: ``height`` = the robot's CoM height. VHIP: every CoM height of ``heights`` x lambda (so
+    ``heights.stand`` = the robot's CoM height), commanded speeds and speed limits x lambda (same step
+    timing, lambda times the stride); vertical accelerations at the switches are kept.
     Returns a validated scenario of the same planner, named ``name`` (default ``<robot>-<name>``).
     """
     if not hasattr(scenario, "planner"):
@@ -58,11 +65,14 @@ def scale_scenario(scenario: Any, robot: "str | Path | RobotConfig", name: str |
     robot = load_robot(robot)
     lam = scale_factor(scenario, robot)
     data = scenario.model_dump(mode="python")
-    data["height"] = robot.com_height
+    if scenario.planner == "tvlip":
+        data["height"] = robot.com_height
     for key in LENGTH_KEYS.get(scenario.planner, ()):
         _scale_path(data, key, lam)
-    for key in SPEED_KEYS:
-        _scale_path(data, key, lam)
+    if scenario.planner == "vhip":
+        data["heights"]["stand"] = robot.com_height
+        data["commands"] = [dict(c, vx=c["vx"] * lam, vy=c["vy"] * lam) for c in data["commands"]]
+        data["step_width"] = robot.foot_separation
     if isinstance(data.get("foot"), dict) and "size" in data["foot"]:
         data["foot"]["size"] = list(robot.sole_size)
     if isinstance(data.get("profile"), dict) and "step_width" in data["profile"]:
@@ -71,8 +81,9 @@ def scale_scenario(scenario: Any, robot: "str | Path | RobotConfig", name: str |
         data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
     data["name"] = name or f"{robot.name}-{scenario.name}"
     desc = data.get("description", "")
-    data["description"] = (f"{desc} -- scaled to {robot.name} (lambda = {lam:.4f}: h = {robot.com_height:.4f} m, "
-                           f"lengths x lambda, robot soles and foot separation, timing kept)").strip(" -")
+    data["description"] = (f"{desc} -- scaled to {robot.name} (lambda = {lam:.4f}: CoM height "
+                           f"{robot.com_height:.4f} m, lengths x lambda, robot soles and foot separation, "
+                           "timing kept)").strip(" -")
     return load_scenario(data)
 
 
