@@ -113,11 +113,13 @@ def _kkt_entries(ap, av, d, K):
     return np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
 
 
-def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: float, dense: bool = False):
+def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: float, dense: bool = False,
+                c_start=None):
     """Solve the equality-constrained hinge least squares for d = boxes.origin.shape[1] axes.
 
     ``const_scale`` multiplies the gravity terms (1 for z, 0 for horizontal axes). ``dense`` solves the
-    same KKT system with a dense LU (the O(K^3) baseline of ``gaitshift bench``).
+    same KKT system with a dense LU (the O(K^3) baseline of ``gaitshift bench``). ``c_start`` fixes the ZMP
+    at boundary 0 (re-planning keeps the ZMP continuous).
     Returns (p, v, c) of shape (K+1, d), iterations, max violation, boundary index of it.
     """
     K = len(kind)
@@ -134,6 +136,9 @@ def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: floa
         rhs_dyn[k * blk + 4 * d + a] = const[:, 1] * const_scale
     fixed_idx = np.concatenate([np.arange(2 * d), K * blk + np.arange(2 * d)])
     fixed_val = np.concatenate([p0, v0, pK, vK])
+    if c_start is not None:
+        fixed_idx = np.concatenate([fixed_idx, 2 * d + np.arange(d)])
+        fixed_val = np.concatenate([fixed_val, c_start])
     is_fixed = np.zeros(n, bool)
     is_fixed[fixed_idx] = True
     keep = ~is_fixed[r0]
@@ -151,9 +156,11 @@ def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: floa
             + W_HINGE**2 * np.einsum("kia,ka->ki", R, act * (bound + np.einsum("kja,kj->ka", R, org)))
         hr = np.repeat(c_idx, d, axis=1).reshape(-1)
         hc = np.tile(c_idx, (1, d)).reshape(-1)
-        rows = np.concatenate([r0, hr, fixed_idx])
-        cols = np.concatenate([c0, hc, fixed_idx])
-        vals = np.concatenate([v0_, H.reshape(-1), np.ones(len(fixed_idx))])
+        hv = H.reshape(-1)
+        free = ~is_fixed[hr]
+        rows = np.concatenate([r0, hr[free], fixed_idx])
+        cols = np.concatenate([c0, hc[free], fixed_idx])
+        vals = np.concatenate([v0_, hv[free], np.ones(len(fixed_idx))])
         rhs = rhs_dyn.copy()
         rhs[c_idx.reshape(-1)] = rhs_c.reshape(-1)
         rhs[fixed_idx] = fixed_val
@@ -399,3 +406,111 @@ def plan_scenario(sc) -> Trajectory:
     }
     return Trajectory(**data, footsteps=seq.footstep_array, footstep_side=seq.footstep_side, meta=meta,
                       extras=extras)
+
+
+# ============================================================================ re-planning from measurements
+class Replanner:
+    """Re-plan the horizontal CoM/ZMP of the rest of a TV-LIPM plan from a measured CoM state.
+
+    The footsteps, phase timing and stiffness stay; the horizontal boundary states and ZMPs of the
+    remaining phases are solved again (same exact-dynamics problem, O(remaining phases)) from the
+    measured horizontal position and velocity at time ``t``, mid-phase included. The vertical motion
+    keeps the original plan (with fixed T and the ZMP on the sole, eq. (1) leaves no freedom in z).
+
+    Use: ``r = Replanner.from_scenario(sc)``; each step call ``r.replan(t, p_xy, v_xy)``; query the
+    reference with ``r.reference(t)`` -> (p, v, a, c) arrays of shape (len(t), 3).
+    """
+
+    def __init__(self, seq: GaitSequence, bp: BoundaryPlan, height: float, g: float, foot_size, margin: float,
+                 zmp_z=(0.0, 0.0)):
+        self.seq, self.height, self.g = seq, height, g
+        self.foot_size, self.margin, self.zmp_z = foot_size, margin, zmp_z
+        self._t0 = 0.0
+        self._seq, self._bp = seq, bp
+        self._orig_bp = bp
+
+    @classmethod
+    def from_scenario(cls, sc) -> "Replanner":
+        seq, _ = sequence_for(sc)
+        bp = solve_boundaries(seq, sc.height, sc.gravity, sc.foot.size, sc.foot.zmp_margin, sc.foot.zmp_z)
+        return cls(seq, bp, sc.height, sc.gravity, sc.foot.size, sc.foot.zmp_margin, sc.foot.zmp_z)
+
+    @property
+    def duration(self) -> float:
+        return float(self.seq.boundary_times[-1])
+
+    def replan(self, t: float, p_xy, v_xy) -> BoundaryPlan:
+        """Re-solve the horizontal plan from time ``t`` (s) with measured CoM ``p_xy``, ``v_xy``.
+
+        Raises:
+            InfeasibleError: the measured state cannot be brought to rest at the goal with the ZMP
+                inside eq. (7)'s boxes (the robot needs other footsteps).
+        """
+        tb = self.seq.boundary_times
+        t = float(np.clip(t, 0.0, tb[-1] - 1e-6))
+        k = int(np.clip(np.searchsorted(tb, t, side="right") - 1, 0, len(self.seq.phases) - 1))
+        first = self.seq.phases[k]
+        phases = (type(first)(first.kind, float(tb[k + 1] - t), first.stiffness, first.on),) + self.seq.phases[k + 1:]
+        sub = GaitSequence(phases, self.seq.footsteps, self.seq.step_gait)
+        xy, _ = build_boxes(sub, self.foot_size, self.margin, self.zmp_z) if first.kind != FLIGHT else \
+            _boxes_from_flight(sub, self.foot_size, self.margin, self.zmp_z)
+        goal = self._orig_bp.p[-1]
+        c_now = None
+        if first.kind != FLIGHT:  # keep the ZMP continuous: start from the current reference ZMP
+            c_now = self.reference(t)[3][0, :2]
+        p, v, c, it, viol, at = _solve_axes(sub.kind, sub.stiffness, sub.duration, self.g, xy,
+                                            np.asarray(p_xy, float), np.asarray(v_xy, float),
+                                            goal[:2], np.zeros(2), 0.0, c_start=c_now)
+        if viol > ZMP_TOL:
+            raise InfeasibleError(f"measured state at t = {t:.3f} s: the ZMP must leave the sole by "
+                                  f"{viol * 1e3:.1f} mm at t = {t + sub.boundary_times[at]:.3f} s to stop at the goal; "
+                                  f"allowed: within the sole (the footsteps must change)")
+        # vertical: the original plan evaluated at t, then its remaining boundaries
+        pz, vz, _, cz = self._vertical_at(k, t)
+        bz = self._orig_bp
+        pz_all = np.r_[pz, bz.p[k + 1:, 2]]
+        vz_all = np.r_[vz, bz.v[k + 1:, 2]]
+        cz_all = np.r_[cz, bz.c[k + 1:, 2]]
+        bp = BoundaryPlan(np.c_[p, pz_all], np.c_[v, vz_all], np.c_[c, cz_all], it, viol, at)
+        self._seq, self._bp, self._t0 = sub, bp, t
+        return bp
+
+    def _vertical_at(self, k: int, t: float):
+        bp, seq = self._orig_bp, self.seq
+        s = t - seq.boundary_times[k]
+        kind = seq.kind[k]
+        if kind == FLIGHT:
+            p, v, _ = flight_state(bp.p[k], bp.v[k], s, self.g)
+            return p[2], v[2], None, bp.c[k, 2]
+        p, v, a, c = support_state(bp.p[k], bp.v[k], bp.c[k], bp.c[k + 1], seq.stiffness[k], seq.duration[k], s,
+                                   self.g)
+        return p[2], v[2], a[2], c[2]
+
+    def reference(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """CoM position, velocity, acceleration and ZMP (each (len(t), 3)) of the current plan at
+        absolute times ``t`` >= the last re-planning time. The ZMP is NaN in flight."""
+        t = np.atleast_1d(np.asarray(t, float))
+        tb = self._t0 + self._seq.boundary_times
+        K = len(self._seq.phases)
+        k = np.clip(np.searchsorted(tb, t + 1e-12, side="right") - 1, 0, K - 1)
+        s = np.clip(t - tb[k], 0.0, self._seq.duration[k])
+        sup = self._seq.kind[k] != FLIGHT
+        bp = self._bp
+        p, v, a = np.empty((len(t), 3)), np.empty((len(t), 3)), np.empty((len(t), 3))
+        c = np.full((len(t), 3), np.nan)
+        ks = k[sup]
+        p[sup], v[sup], a[sup], c[sup] = support_state(bp.p[ks], bp.v[ks], bp.c[ks], bp.c[ks + 1],
+                                                       self._seq.stiffness[ks], self._seq.duration[ks], s[sup], self.g)
+        kf = k[~sup]
+        p[~sup], v[~sup], a[~sup] = flight_state(bp.p[kf], bp.v[kf], s[~sup], self.g)
+        return p, v, a, c
+
+
+def _boxes_from_flight(sub: GaitSequence, foot_size, margin, zmp_z):
+    """Boxes when the first (truncated) phase is a flight: boundary 0's ZMP does not act; give it the
+    box of the landing boundary so that the regularisation has a target."""
+    kinds = sub.kind.copy()
+    xy, z = build_boxes(GaitSequence(sub.phases[1:], sub.footsteps, sub.step_gait), foot_size, margin, zmp_z)
+    first = lambda b: Boxes(*(np.concatenate([arr[:1], arr]) for arr in (b.origin, b.rot, b.lo, b.hi, b.ref)))
+    del kinds
+    return first(xy), first(z)
