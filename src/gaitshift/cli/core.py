@@ -106,12 +106,11 @@ def demo_cmd(
     typer.echo(f"planned {DEMO_SCENARIO}: {traj.t[-1]:.2f} s, {len(traj.footsteps)} footholds -> {path}")
     for p in _figures(traj, out):
         typer.echo(f"wrote {p}")
-    for hook in DEMO_HOOKS:
-        hook(out, video)
+    if video:
+        from ..robot.render import animate
 
-
-#: Further demo steps registered by optional layers (whole-body video, simulation): f(out, video).
-DEMO_HOOKS: list = []
+        path, joints = animate("g1-walk-run-walk", out / "g1_walk_run_walk.mp4", robot="g1")
+        typer.echo(f"whole-body IK on the G1 ({len(joints.t)} samples) and video -> {path}")
 
 
 @app.command("check")

@@ -128,11 +128,14 @@ class RobotConfig:
     #: Names of the sole sites the IK adds to the model.
     SOLE_SITES = ("gaitshift_left_sole", "gaitshift_right_sole")
 
+    def _key(self) -> tuple:
+        return (self.name, str(self.mjcf), self.source, self.standing_pose, self.sole_offsets, self.sole_bodies)
+
     def __hash__(self) -> int:
-        return hash((self.name, str(self.mjcf)))
+        return hash(self._key())
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, RobotConfig) and (self.name, self.mjcf) == (other.name, other.mjcf)
+        return isinstance(other, RobotConfig) and self._key() == other._key()
 
     # ------------------------------------------------------------------ model
     def model(self, scene: bool = False) -> Any:
@@ -321,8 +324,6 @@ def _compile(mjcf: Path, sole_bodies: tuple[str, str], sole_offsets: tuple, scen
         spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
         spec.visual.headlight.diffuse = [0.65, 0.65, 0.65]
         world = spec.worldbody
-        world.add_light(pos=[0, 0, 4], dir=[0, 0, -1], type=int(mujoco.mjtLightType.mjLIGHT_DIRECTIONAL), castshadow=0,
-                        diffuse=[0.6, 0.6, 0.6])
         tex = spec.add_texture(name="gaitshift_grid", type=mujoco.mjtTexture.mjTEXTURE_2D,
                                builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, width=300, height=300,
                                rgb1=[0.32, 0.38, 0.44], rgb2=[0.26, 0.31, 0.37])

@@ -324,7 +324,7 @@ class WholeBodyIK:
     # ------------------------------------------------------------------ diagnosis
     def _diagnose(self, t: float, q: np.ndarray, feet: np.ndarray, err: np.ndarray, failure: str | None) -> IKInfeasibleError:
         s = self.settings
-        m, d = self.model, self.conf.data
+        d = self.conf.data
         self.conf.update(q)
         ratios = np.array([err[0] / s.com_tol, max(err[1] / s.pos_tol, err[3] / s.rot_tol),
                            max(err[2] / s.pos_tol, err[4] / s.rot_tol)])
@@ -347,7 +347,7 @@ class WholeBodyIK:
                 causes.append((side + 1, f"knee singularity ({self.robot.knees[side]} = {q[adr]:.3f} rad, leg "
                                f"straight; {sides[side]} hip-to-sole distance {reach[side]:.3f} m, leg length "
                                f"{leg:.3f} m)"))
-        if causes and causes[0][0] is not None and ratios[causes[0][0]] > 1:
+        if causes and causes[0][0] is not None and (ratios[causes[0][0]] > 1 or ratios.max() <= 1):
             task = causes[0][0]
         if not causes:
             side = task - 1 if task else int(np.argmax(reach))
@@ -404,6 +404,7 @@ class WholeBodyIK:
                     or max(err[3], err[4]) > s.rot_tol
                     or min(abs(qk[a]) for a in self.knee_adr) < s.knee_margin):
                 raise self._diagnose(float(traj.t[k]), qk, feet_all[k], err, failure)
+            qk[self._qadr] = np.clip(qk[self._qadr], self._lo, self._hi)  # rounding only (< 1e-15 rad)
             if k >= 1:
                 mujoco.mj_differentiatePos(m, v_prev, 1.0, qpos[k - 1], qk)
             qpos[k] = qk

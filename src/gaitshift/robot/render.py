@@ -5,8 +5,8 @@ create a context. PyOpenGL binds one platform per process, so the fallback rende
 process. Shadows and reflections are off for speed. Frames go to the ffmpeg binary bundled with
 imageio-ffmpeg (H.264, yuv420p).
 
-Drawn on each frame: the planned CoM (red sphere) and its ground projection (red dot), the planned ZMP
-(green dot; none in flight), and every footstep as a flat sole-sized rectangle (blue left, orange
+Drawn on each frame: the planned CoM (red sphere, often inside the pelvis) with its ground projection
+(red disc) and the trail of the last 1.5 s (small red dots), the planned ZMP (green disc; none in flight), and every footstep as a flat sole-sized rectangle (blue left, orange
 right). The camera follows the CoM from the side.
 """
 
@@ -83,7 +83,7 @@ def _render_frames(robot: RobotConfig, traj: Trajectory | None, qpos: np.ndarray
         cam.type = mujoco.mjtCamera.mjCAMERA_FREE
         cam.distance = 3.2 * robot.com_height / 0.65
         cam.azimuth = 120.0
-        cam.elevation = -12.0
+        cam.elevation = -20.0
         viewport = mujoco.MjrRect(0, 0, width, height)
         rgb = np.empty((height, width, 3), dtype=np.uint8)
         idx = frame_indices(t, fps)
@@ -92,6 +92,8 @@ def _render_frames(robot: RobotConfig, traj: Trajectory | None, qpos: np.ndarray
         sides = traj.footstep_side if traj is not None else np.zeros(0, dtype=int)
         colours = (np.array([0.15, 0.45, 0.95, 0.55], np.float32), np.array([0.95, 0.55, 0.1, 0.55], np.float32))
         eye = np.eye(3).ravel()
+        dt = float(t[1] - t[0]) if len(t) > 1 else 1.0
+        trail, trail_step = int(round(1.5 / dt)), max(1, int(round(0.05 / dt)))
         writer = imageio_ffmpeg.write_frames(str(out), (width, height), fps=fps, codec="libx264",
                                              pix_fmt_out="yuv420p", quality=7, macro_block_size=2,
                                              ffmpeg_log_level="error")
@@ -117,10 +119,15 @@ def _render_frames(robot: RobotConfig, traj: Trajectory | None, qpos: np.ndarray
                         _rot_z(yaw), colours[int(side)])
                 red = np.array([0.9, 0.1, 0.1, 1.0], np.float32)
                 add(mujoco.mjtGeom.mjGEOM_SPHERE, [0.035, 0, 0], com, eye, red)
-                add(mujoco.mjtGeom.mjGEOM_CYLINDER, [0.02, 0.002, 0], [com[0], com[1], 0.003], eye, red)
-                if traj is not None and np.all(np.isfinite(traj.zmp[k])):
-                    add(mujoco.mjtGeom.mjGEOM_CYLINDER, [0.02, 0.002, 0], traj.zmp[k] + [0, 0, 0.005], eye,
-                        np.array([0.1, 0.8, 0.2, 1.0], np.float32))
+                add(mujoco.mjtGeom.mjGEOM_CYLINDER, [0.03, 0.002, 0], [com[0], com[1], 0.004], eye, red)
+                if traj is not None:
+                    past = traj.com_pos[max(0, k - trail):k + 1:trail_step]
+                    for c in past:
+                        add(mujoco.mjtGeom.mjGEOM_CYLINDER, [0.014, 0.002, 0], [c[0], c[1], 0.003], eye,
+                            np.array([0.9, 0.2, 0.2, 0.8], np.float32))
+                    if np.all(np.isfinite(traj.zmp[k])):
+                        add(mujoco.mjtGeom.mjGEOM_CYLINDER, [0.025, 0.002, 0], traj.zmp[k] + [0, 0, 0.006], eye,
+                            np.array([0.1, 0.85, 0.2, 1.0], np.float32))
                 mujoco.mjr_render(viewport, scene, con)
                 mujoco.mjr_readPixels(rgb, None, viewport, con)
                 writer.send(np.ascontiguousarray(rgb[::-1]).tobytes())
