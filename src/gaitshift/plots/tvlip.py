@@ -107,31 +107,33 @@ def _vertical(z0, v0, phases, g, n=200):
     return np.concatenate(ts), np.concatenate(zs)
 
 
-def paper_figures_vertical(h, tss, tds, tf, g, out: Path) -> list[Path]:
-    """Figs. 5 (running half cycle), 6 (walk-to-run transition) and 7 (T_r surface)."""
-    k = solve_stiffness(h, tss, tds, tf, g)
-    paths = []
-    t, z = _vertical(h, k.v_r, [(SS, tss, k.T_r), (FLIGHT, tf, None)], g)
-    fig, ax = plt.subplots(figsize=(6, 3.5))
-    ax.axvspan(tss, tss + tf, color=PHASE_COLORS[FLIGHT])
-    ax.plot(t, z, "k-")
-    ax.axhline(h, ls=":", c="gray")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("CoM z [m]")
-    ax.set_title(f"Fig. 5: running half cycle, T_r = {k.T_r:.4f} s, v_r = {k.v_r:.4f} m/s")
-    paths.append(_save(fig, out / "fig5_running_half_cycle.png"))
-    t, z = _vertical(h, 0.0, [(DS, tds, k.T_w), (DS, tds, k.T_t0), (SS, tss, k.T_t1), (FLIGHT, tf, None),
-                              (SS, tss, k.T_r), (FLIGHT, tf, None)], g)
-    fig, ax = plt.subplots(figsize=(7, 3.5))
-    edges = np.cumsum([0, tds, tds, tss, tf, tss, tf])
-    for a, b, kind in zip(edges[:-1], edges[1:], [DS, DS, SS, FLIGHT, SS, FLIGHT]):
+def _vertical_figure(h, v0, phases, g, title: str, path: Path, size) -> Path:
+    """Plot the vertical CoM through ``phases`` [(kind, tau, T)] from (h, v0), phases shaded."""
+    t, z = _vertical(h, v0, phases, g)
+    fig, ax = plt.subplots(figsize=size)
+    edges = np.cumsum([0.0] + [tau for _, tau, _ in phases])
+    for a, b, (kind, _, _) in zip(edges[:-1], edges[1:], phases):
         ax.axvspan(a, b, color=PHASE_COLORS[kind], lw=0)
     ax.plot(t, z, "k-")
     ax.axhline(h, ls=":", c="gray")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("CoM z [m]")
-    ax.set_title(f"Fig. 6: walk->run, T_w={k.T_w:.3f}, T_t0={k.T_t0:.3f}, T_t1={k.T_t1:.3f}, T_r={k.T_r:.3f}")
-    paths.append(_save(fig, out / "fig6_transition.png"))
+    ax.set_title(title)
+    return _save(fig, path)
+
+
+def paper_figures_vertical(h, tss, tds, tf, g, out: Path) -> list[Path]:
+    """Figs. 5 (running half cycle), 6 (walk-to-run transition) and 7 (T_r surface)."""
+    k = solve_stiffness(h, tss, tds, tf, g)
+    paths = [
+        _vertical_figure(h, k.v_r, [(SS, tss, k.T_r), (FLIGHT, tf, None)], g,
+                         f"Fig. 5: running half cycle, T_r = {k.T_r:.4f} s, v_r = {k.v_r:.4f} m/s",
+                         out / "fig5_running_half_cycle.png", (6, 3.5)),
+        _vertical_figure(h, 0.0, [(DS, tds, k.T_w), (DS, tds, k.T_t0), (SS, tss, k.T_t1), (FLIGHT, tf, None),
+                                  (SS, tss, k.T_r), (FLIGHT, tf, None)], g,
+                         f"Fig. 6: walk->run, T_w={k.T_w:.3f}, T_t0={k.T_t0:.3f}, T_t1={k.T_t1:.3f}, T_r={k.T_r:.3f}",
+                         out / "fig6_transition.png", (7, 3.5)),
+    ]
     grid = np.round(np.arange(0.10, 0.395, 0.01), 2)
     S, F = np.meshgrid(grid, grid, indexing="ij")
     Tr, _, _, _ = sweep_running(h, S, F, g)
