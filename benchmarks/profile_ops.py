@@ -5,7 +5,8 @@
     .venv/bin/python benchmarks/profile_ops.py slip -n 20
 
 Operations: ``stiffness`` (one T_r solve, repeated), ``sweep`` (Fig. 7 grid of 900 T_r), ``plan``
-(TV-LIPM plan of the built-in 20-step walk-run-walk scenario), ``slip`` (periodic 3D-SLIP search).
+(TV-LIPM plan of the built-in 20-step walk-run-walk scenario, sampled at 1 ms), ``boundaries2000``
+(the planner's boundary solve alone for 2000 steps), ``slip`` (periodic 3D-SLIP search).
 Each profile prints the wall time per call without the profiler first (cProfile slows Python-heavy
 code down by up to about 2x), then the functions sorted by their own time (tottime).
 """
@@ -38,6 +39,13 @@ def _ops():
 
         sc = gaitshift.load_scenario("paper001-table2-walk-run-walk")
         ops["plan"] = (lambda: plan_scenario(sc), 20)
+        from gaitshift.bench.tvlip import _wrw
+        from gaitshift.planners.tvlip import sequence_for, solve_boundaries
+
+        big = _wrw((500, 1000, 500))
+        seq, _ = sequence_for(big)
+        ops["boundaries2000"] = (lambda: solve_boundaries(seq, big.height, big.gravity, big.foot.size,
+                                                          big.foot.zmp_margin, big.foot.zmp_z), 5)
     except Exception as exc:  # the planner is another topic; profile what exists
         print(f"(plan skipped: {exc})")
     return ops

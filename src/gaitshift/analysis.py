@@ -114,6 +114,18 @@ def physics_report(traj: Trajectory) -> dict[str, float]:
     return rep
 
 
-#: Pass thresholds of ``gaitshift check`` (same units as :func:`physics_report`).
+#: Pass thresholds of ``gaitshift check`` at dt = 1 ms (same units as :func:`physics_report`).
 CHECK_LIMITS = {"zmp_identity": 1e-6, "flight_acc": 1e-9, "fd_velocity": 1e-3, "fd_acceleration": 1e-2,
                 "position_jump": 1e-5, "zmp_outside": 1e-3, "start_speed": 1e-3, "end_speed": 1e-3}
+
+
+def check_limits(dt: float) -> dict[str, float]:
+    """:data:`CHECK_LIMITS` for sampling step ``dt``: the truncation error of a central difference grows
+    as dt^2 (velocity, acceleration) and of the trapezoid continuity test as dt^3, so those limits
+    scale with (dt / 1 ms)^2 and (dt / 1 ms)^3; the physical identities keep their limits."""
+    r = max(dt / 1e-3, 1.0)
+    lim = dict(CHECK_LIMITS)
+    lim["fd_velocity"] *= r**2
+    lim["fd_acceleration"] *= r**2
+    lim["position_jump"] *= r**3
+    return lim

@@ -147,7 +147,7 @@ class VhipHeights(_Strict):
 class VhipCommand(_Strict):
     """A speed command issued at time ``t`` (s): forward ``vx`` and lateral ``vy``, m/s."""
 
-    t: NonNeg = 0.0
+    t: Annotated[float, Field(ge=0, le=600, allow_inf_nan=False)] = 0.0
     vx: Real = 0.0
     vy: Real = 0.0
 
@@ -159,7 +159,7 @@ class VhipLimits(_Strict):
     each axis (m); ``max_accel_per_step`` [x, y] largest change of the take-off speed target from one
     step to the next (m/s per step)."""
 
-    max_speed: tuple[Pos, Pos] = (1.5, 0.4)
+    max_speed: tuple[Pos, Pos] = (1.5, 0.2)
     max_stride: Pos = 0.8
     max_accel_per_step: tuple[Pos, Pos] = (0.3, 0.2)
 
@@ -177,8 +177,9 @@ class VhipScenario(_Strict):
     name: str = "custom"
     description: str = ""
     gravity: Pos = 9.81
-    #: control period = sample step, s (4 ms in the paper)
-    dt: Annotated[float, Field(gt=0, le=0.02, allow_inf_nan=False)] = 0.004
+    #: sample step = control period, s (the paper controls at 4 ms; 1 ms keeps finite differences of the
+    #: stance sextic within the file checks)
+    dt: Annotated[float, Field(gt=0, le=0.02, allow_inf_nan=False)] = 0.001
     #: one running step (stance + flight), s
     step_period: Pos = 0.4
     #: stance share of a step, in (0, 1)
@@ -194,8 +195,8 @@ class VhipScenario(_Strict):
     first_support: Literal["left", "right"] = "left"
     #: scripted speed commands, in time order
     commands: tuple[VhipCommand, ...] = (VhipCommand(),)
-    #: time of the stop request, s (None: 2 s after the last command)
-    stop_at: NonNeg | None = None
+    #: time of the stop request, s (None: 2 s after the last command); runs are at most 10 minutes
+    stop_at: Annotated[float, Field(ge=0, le=600, allow_inf_nan=False)] | None = None
     limits: VhipLimits = VhipLimits()
     #: swing-foot apex above the higher end, m
     swing_apex: NonNeg = 0.08

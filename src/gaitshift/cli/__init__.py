@@ -10,6 +10,8 @@ from __future__ import annotations
 import importlib
 import sys
 
+import typer
+
 try:  # typer >= 0.20 vendors click
     from typer._click import exceptions as _click_exc
 except ImportError:  # pragma: no cover - older typer depends on click
@@ -44,8 +46,11 @@ def main(argv: list[str] | None = None) -> None:
         msg = exc.format_message().replace("\n", " ")
         print(f"gaitshift: error: {msg}", file=sys.stderr)
         sys.exit(2)
-    except _click_exc.Abort:
+    except typer.Abort:
         sys.exit(1)
-    except _click_exc.Exit as exc:
+    except typer.Exit as exc:
         sys.exit(exc.exit_code)
+    except BrokenPipeError:  # e.g. `gaitshift plan ... | head -1`
+        sys.stderr.close()
+        sys.exit(0)
     sys.exit(rv if isinstance(rv, int) else 0)

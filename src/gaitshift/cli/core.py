@@ -122,16 +122,18 @@ def check_cmd(
 
     Exits 0 when every error is within its limit, 1 otherwise.
     """
-    from ..analysis import CHECK_LIMITS, physics_report
+    from ..analysis import check_limits, physics_report
 
-    rep = physics_report(Trajectory.load(file))
-    ok = {k: rep[k] <= lim for k, lim in CHECK_LIMITS.items()}
+    traj = Trajectory.load(file)
+    rep = physics_report(traj)
+    limits = check_limits(traj.dt)
+    ok = {k: rep[k] <= lim for k, lim in limits.items()}
     ok["min_vertical_force"] = rep["min_vertical_force"] > 0
     if as_json:
-        typer.echo(json.dumps({"report": rep, "pass": ok, "limits": CHECK_LIMITS}))
+        typer.echo(json.dumps({"report": rep, "pass": ok, "limits": limits}))
     else:
         for k, val in rep.items():
-            lim = CHECK_LIMITS.get(k)
+            lim = limits.get(k)
             bound = f"<= {lim:g}" if lim is not None else "> 0"
             typer.echo(f"{'ok  ' if ok[k] else 'FAIL'} {k:20s} {val:.3e}  ({bound})")
     if not all(ok.values()):

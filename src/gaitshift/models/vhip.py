@@ -25,7 +25,8 @@ Horizontal CoM (discretised, step ``dt``)
 
     In flight (and at a contact switch where c''^z = -g) ``w_i = 0`` and (9') is the flight row
     eq. (14). Rows 0 and n are the velocity conditions of eq. (12); together they form eq. (13).
-    The matrix is diagonally dominant (|2 + w| >= 2), so elimination without pivoting is stable.
+    The matrix is diagonally dominant (|2 + w| >= 2), so elimination without pivoting (our Thomas
+    solver) is stable; LAPACK's gtsv/gttrf pivot anyway.
 
 All heights in m, times in s, velocities m/s. Arrays are 1-D over samples unless stated.
 """
@@ -40,9 +41,9 @@ from scipy.linalg import lapack, solve_banded
 from ..errors import InfeasibleError
 
 __all__ = [
-    "Horizon", "VerticalGait", "stance_profiles", "flight_takeoff_velocity", "flight_height", "sextic_coefficients", "sextic_eval",
-    "min_vertical_force", "check_pushing", "row_weights", "tridiagonal_system", "thomas",
-    "solve_banded_tridiagonal", "solve_tridiagonal", "zmp_from_com",
+    "FORCE_EPS", "Horizon", "VerticalGait", "stance_profiles", "flight_takeoff_velocity", "flight_height",
+    "sextic_coefficients", "sextic_eval", "min_vertical_force", "check_pushing", "row_weights",
+    "tridiagonal_system", "thomas", "solve_banded_tridiagonal", "solve_tridiagonal", "zmp_from_com",
 ]
 
 
@@ -160,23 +161,30 @@ class VerticalGait:
 
     def running_step(self, dt: float, n_fly: int, n_sup: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(z, zd, zdd) at samples j = 0..n_fly+n_sup of a step that starts at a take-off: flight
-        for j < n_fly, stance sextic for j >= n_fly (touchdown at j = n_fly, take-off at the end)."""
-        j = np.arange(n_fly + n_sup + 1, dtype=float)
+        for j < n_fly, stance sextic for n_fly <= j < n_fly+n_sup (touchdown at j = n_fly), and the
+        take-off sample at the end. A sample exactly at a take-off belongs to the flight (z'' = -g,
+        the force-free side of the switch), one exactly at a touchdown to the stance; with the default
+        contact-switch accelerations (-g) both sides agree."""
+        n = n_fly + n_sup
+        j = np.arange(n + 1, dtype=float)
         out = [np.empty_like(j) for _ in range(3)]
         fl = j < n_fly
         for o, v in zip(out, flight_height(self.z_to, self.zd_to, j[fl] * dt, self.g)):
             o[fl] = v
         for o, v in zip(out, self._stance(self.run, j[~fl] - n_fly, dt)):
             o[~fl] = v
+        out[0][n], out[1][n], out[2][n] = self.z_to, self.zd_to, -self.g
         return out[0], out[1], out[2]
 
     def start_horizon(self, dt: float, n_ds: int, n_sup: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(z, zd, zdd) at samples 0..n_ds+n_sup: constant standing height in double support, then the
-        start sextic up to the first take-off."""
+        start sextic up to the first take-off (whose sample belongs to the flight, as in
+        :meth:`running_step`)."""
         j = np.arange(n_ds + n_sup + 1, dtype=float)
         z, zd, zdd = np.full_like(j, self.z_stand), np.zeros_like(j), np.zeros_like(j)
         st = j >= n_ds
         z[st], zd[st], zdd[st] = self._stance(self.start, j[st] - n_ds, dt)
+        z[-1], zd[-1], zdd[-1] = self.z_to, self.zd_to, -self.g      # the take-off sample: flight side
         return z, zd, zdd
 
     def stop_horizon(self, dt: float, n_fly: int, n_sup: int, n_ds: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -217,9 +225,16 @@ def stance_profiles(heights, g: float, t_sup: float, t_fly: float) -> VerticalGa
 
 
 # ============================================================================ horizontal (eqs. 7-14)
+#: vertical force per unit mass below which a sample counts as force-free (flight row), m/s^2:
+#: the sextic meets z'' = -g at a contact switch only up to rounding (~1e-13)
+FORCE_EPS = 1e-9
+
+
 def row_weights(z: np.ndarray, zdd: np.ndarray, g: float, dt: float) -> np.ndarray:
-    """Row weights ``w_i = (z''_i + g) dt^2 / z_i`` of eq. (9'), clipped at 0 (flight)."""
-    return np.maximum((np.asarray(zdd, float) + g) * dt * dt / np.asarray(z, float), 0.0)
+    """Row weights ``w_i = (z''_i + g) dt^2 / z_i`` of eq. (9'); 0 where ``z'' + g <= FORCE_EPS * g``
+    (flight, and contact switches with zero vertical force)."""
+    f = np.asarray(zdd, float) + g
+    return np.where(f > FORCE_EPS * g, f * dt * dt / np.asarray(z, float), 0.0)
 
 
 def tridiagonal_system(w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -61,16 +61,19 @@ def target_foothold(horizon: Horizon, c_prev: np.ndarray, v_prev: np.ndarray, v_
     Returns:
         :class:`FootholdResult` with the target foothold and the CoM over the horizon.
     """
-    n1 = horizon.n + 1
-    shape = np.zeros((n1, 2)) if zmp_shape is None else np.asarray(zmp_shape, float)
     c_prev = np.asarray(c_prev, float)
     p = np.array(p_nom, dtype=float)
-    v0, v1 = np.asarray(v_prev, float), np.asarray(v_cmd, float)
+    v0dt = np.asarray(v_prev, float) * horizon.dt
+    v1dt = np.asarray(v_cmd, float) * horizon.dt
     w = horizon.w[:, None]
-    base = w * shape  # rhs part that does not move with the foothold
-    rhs = base + w * p
-    rhs[0], rhs[-1] = v0 * horizon.dt, v1 * horizon.dt
-    c = horizon.solve_rhs(rhs)                       # line 4
+    base = None if zmp_shape is None else w * np.asarray(zmp_shape, float)  # does not move with p
+
+    def com(p):                                      # eq. (13) with the ZMP at p during the stance
+        rhs = w * p if base is None else base + w * p
+        rhs[0], rhs[-1] = v0dt, v1dt
+        return horizon.solve_rhs(rhs)
+
+    c = com(p)                                       # line 4
     dc = c[0] - c_prev                               # line 6
     iters = np.zeros(2, dtype=int)
     while True:
@@ -82,8 +85,6 @@ def target_foothold(horizon: Horizon, c_prev: np.ndarray, v_prev: np.ndarray, v_
                                   f"(|dc| = {np.abs(dc).max():.3g} m)")
         p = p - np.where(active, dc, 0.0)            # line 13
         iters += active                              # line 14
-        rhs = base + w * p
-        rhs[0], rhs[-1] = v0 * horizon.dt, v1 * horizon.dt
-        c = horizon.solve_rhs(rhs)                   # line 15
+        c = com(p)                                   # line 15
         dc = c[0] - c_prev                           # line 16
     return FootholdResult(p, c, iters, np.abs(dc))

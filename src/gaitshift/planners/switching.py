@@ -15,8 +15,9 @@ not unique. We add the smoothness objective (documented in docs/vhip.md)::
 
 For a fixed dT1 the ZMP samples are linear in (y_m, y'_m) and J is a convex quadratic, so the
 equality-constrained minimum has a closed form (3x3 KKT system). Our solver scans dT1 on a grid,
-vectorised over all candidates at once, keeps the best feasible one and zooms in twice. The linear
-functional ``c_0 = lambda . rhs`` comes from one adjoint solve ``Phi^T lambda = e_0``.
+vectorised over all candidates at once, and keeps the best feasible one; everything that depends
+only on the horizon is prepared once (:class:`SwitchingSolver`). The linear functional
+``c_0 = lambda . rhs`` comes from one adjoint solve ``Phi^T lambda = e_0``.
 
 State Switching 3 (stop) is the same problem in reversed time: the rows of eq. (9') are symmetric
 (alpha_i = chi_i), so reversing the samples maps a stop onto a start (see :func:`solve_stop`).
@@ -38,13 +39,14 @@ import numpy as np
 from ..errors import InfeasibleError
 from ..models.vhip import Horizon
 
-__all__ = ["SwitchingProblem", "SwitchingSolution", "hermite_coefficients", "smoothness",
-           "solve_switching", "solve_stop", "zmp_samples", "IpoptSwitching", "solve_switching_ipopt"]
+__all__ = ["SwitchingProblem", "SwitchingSolution", "SwitchingSolver", "hermite_coefficients", "smoothness",
+           "solve_switching", "stop_problem", "solve_stop", "zmp_samples_xy", "IpoptSwitching",
+           "solve_switching_ipopt"]
 
 #: shortest cubic segment as a share of T (keeps the Hermite basis well conditioned)
 MIN_SEGMENT = 0.05
-#: grid size of each scan pass over dT1, and number of zoom passes
-GRID, ZOOMS = 513, 1
+#: number of candidate knot times dT1 (2.1 ms apart for T = 1.2 s)
+GRID = 513
 
 
 def hermite_coefficients(dT, x0, xd0, x1, xd1) -> np.ndarray:
@@ -127,31 +129,6 @@ class SwitchingSolution:
     evaluations: int
 
 
-def _basis(t: np.ndarray, h1: np.ndarray, T: float, y0: float, y1: float):
-    """Sampled Hermite basis for candidates h1 (K,) at times t (n,): p = P0 + ym M + ydm D, (K, n)."""
-    h1 = h1[:, None]
-    h2 = T - h1
-    first = t[None, :] <= h1
-    s1 = t[None, :] / h1
-    s2 = (t[None, :] - h1) / h2
-    s = np.where(first, s1, s2)
-    s2_, s3_ = s * s, s * s * s
-    h00 = 2 * s3_ - 3 * s2_ + 1
-    h10 = s3_ - 2 * s2_ + s
-    h01 = -2 * s3_ + 3 * s2_
-    h11 = s3_ - s2_
-    P0 = np.where(first, y0 * h00, y1 * h01)
-    M = np.where(first, h01, h00)
-    D = np.where(first, h11 * h1, h10 * h2)
-    return P0, M, D
-
-
-def zmp_samples(t: np.ndarray, dT1: float, T: float, y0: float, ym: float, ydm: float, y1: float) -> np.ndarray:
-    """ZMP of eq. (16a) at times ``t`` in [0, T] (from the Hermite form, eqs. (17)-(18))."""
-    P0, M, D = _basis(np.asarray(t, float), np.array([dT1]), T, y0, y1)
-    return (P0 + ym * M + ydm * D)[0]
-
-
 def _segment_extreme(h, x0, v0, x1, v1, which):
     """Value at the interior stationary point of a Hermite cubic on [0, h] with one zero end rate
     (``which`` = 0: v0 = 0, the other root of y' is -2 b2 / (3 b3); 1: v1 = 0, the other root is
@@ -164,33 +141,28 @@ def _segment_extreme(h, x0, v0, x1, v1, which):
     return np.where((r > 0) & (r < h), val, np.nan)
 
 
-def _solve_axes(S: np.ndarray, dt: float, n_ds: int, y0: np.ndarray, y1: np.ndarray, R0: np.ndarray,
-                lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
-    """Best (dT1, ym, ydm, J) per axis (arrays (2,)): vectorised scan + zoom over dT1.
+class _KnotGrid:
+    """Everything about the candidate knot times dT1 that does not depend on the boundary values:
+    for each candidate, the sums of eq. (13)'s adjoint weights against the Hermite basis (from the
+    prefix sums ``S[k, j] = sum_{i < j} g_i t_i^k``, in O(1) per candidate) and the Hessian of J.
 
-    ``S[k, j] = sum_{i < j} g_i t_i^k`` (prefix sums, k = 0..3): the constraint coefficients of any
-    candidate dT1 follow in O(1) from the polynomial form of the Hermite basis, and the ZMP range of
-    each cubic from its single interior stationary point, so a candidate costs O(1).
+    A problem (y0, y1, c0, v_end, bounds) then costs one vectorised pass over the grid
+    (:meth:`solve`): the equality-constrained minimum of the quadratic J for every candidate, the ZMP
+    range of every candidate from the single interior stationary point of each cubic, and the best
+    feasible candidate.
     """
-    T = n_ds * dt
-    hmin = MIN_SEGMENT * T
-    a, b = np.full(2, hmin), np.full(2, T - hmin)
-    y0, y1, R0, lo, hi = (np.asarray(v, float)[:, None] for v in (y0, y1, R0, lo, hi))
-    best_J = np.full(2, np.inf)
-    best = np.zeros((3, 2))
-    evals = 0
-    tol = 1e-12
-    tot = S[:, -1][:, None, None]
-    lin = np.linspace(0.0, 1.0, GRID)
-    ax = np.arange(2)
-    for zoom in range(ZOOMS):
-        h1 = a[:, None] + (b - a)[:, None] * lin[None, :]          # (2, K)
+
+    def __init__(self, S: np.ndarray, dt: float, n_ds: int, grid: int = GRID):
+        T = n_ds * dt
+        self.T = T
+        hmin = MIN_SEGMENT * T
+        h1 = np.linspace(hmin, T - hmin, grid)
         h2 = T - h1
         m = np.minimum(np.floor(h1 / dt + 1e-9).astype(int) + 1, n_ds + 1)  # samples with t_i <= h1
-        P = S[:, m]                                               # (4, 2, K) first-segment sums
-        Q = tot - P                                               # second segment
+        P = S[:, m]                          # (4, K) first-segment sums of g t^k
+        Q = S[:, -1][:, None] - P            # second segment
         h1s = h1 * h1
-        T1 = Q[1] - h1 * Q[0]
+        T1 = Q[1] - h1 * Q[0]                # second-segment sums of g tau^k, tau = t - h1
         T2 = Q[2] - 2 * h1 * Q[1] + h1s * Q[0]
         T3 = Q[3] - 3 * h1 * Q[2] + 3 * h1s * Q[1] - h1s * h1 * Q[0]
         i1, i2 = 1.0 / h1, 1.0 / h2
@@ -198,66 +170,121 @@ def _solve_axes(S: np.ndarray, dt: float, n_ds: int, y0: np.ndarray, y1: np.ndar
         i1c, i2c = i1s * i1, i2s * i2
         a1 = 3 * P[2] * i1s - 2 * P[3] * i1c          # sum g h01 over the first segment
         a2 = 3 * T2 * i2s - 2 * T3 * i2c              # sum g h01 over the second segment
+        # c_0 = K + sum g p = K + y0 (P0 - a1) + y1 a2 + A ym + B ydm
         A = Q[0] - a2 + a1
         B = (P[3] * i1s - P[2] * i1) + (T3 * i2s - 2 * T2 * i2 + T1)
-        R = R0 - y0 * (P[0] - a1) - y1 * a2
-        # KKT of min J s.t. A ym + B ydm = R; J = q.H.q/2 + bvec.q + J0, H = [[Huu, Huv], [Huv, Hvv]]
-        Huu = 24 * (i1c + i2c)
-        Huv = 12 * (i2s - i1s)
-        Hvv = 8 * (i1 + i2)
-        bu = -24 * (y0 * i1c + y1 * i2c)
-        bv = 12 * (y0 * i1s - y1 * i2s)
-        # adj(H) applied to a = (A, B) and to bvec (the 1/det factor cancels in mu)
-        ia_u, ia_v = Hvv * A - Huv * B, Huu * B - Huv * A
-        ib_u, ib_v = Hvv * bu - Huv * bv, Huu * bv - Huv * bu
+        # J = q.H.q/2 + bvec.q + J0 over q = (ym, ydm), H = [[Huu, Huv], [Huv, Hvv]]
+        Huu, Huv, Hvv = 24 * (i1c + i2c), 12 * (i2s - i1s), 8 * (i1 + i2)
         det = Huu * Hvv - Huv * Huv
+        ia_u, ia_v = Hvv * A - Huv * B, Huu * B - Huv * A       # adj(H) (A, B)
+        self.h1, self.h2 = h1, h2
+        self.i1s, self.i2s, self.i1c, self.i2c = i1s, i2s, i1c, i2c
+        self.y0_coef, self.y1_coef = P[0] - a1, a2
+        self.A, self.B, self.Huu, self.Huv, self.Hvv, self.det = A, B, Huu, Huv, Hvv, det
+        self.ia_u, self.ia_v = ia_u, ia_v
+        with np.errstate(divide="ignore"):
+            self.inv_aHa = 1.0 / (A * ia_u + B * ia_v)
+        self.inv_det = 1.0 / det
+
+    def solve(self, y0, y1, R0, lo, hi):
+        """Best (dT1, ym, ydm, J) per axis, arrays (2,), and the number of candidates evaluated."""
+        y0, y1, R0, lo, hi = (np.asarray(v, float)[:, None] for v in (y0, y1, R0, lo, hi))
+        h1, h2 = self.h1, self.h2
+        R = R0 - y0 * self.y0_coef - y1 * self.y1_coef
+        bu = -24 * (y0 * self.i1c + y1 * self.i2c)
+        bv = 12 * (y0 * self.i1s - y1 * self.i2s)
+        Huu, Huv, Hvv = self.Huu, self.Huv, self.Hvv
+        ib_u, ib_v = Hvv * bu - Huv * bv, Huu * bv - Huv * bu   # adj(H) bvec
         with np.errstate(divide="ignore", invalid="ignore"):
-            mu = -(R * det + A * ib_u + B * ib_v) / (A * ia_u + B * ia_v)
-            ym = -(ib_u + mu * ia_u) / det
-            ydm = -(ib_v + mu * ia_v) / det
+            mu = -(R * self.det + self.A * ib_u + self.B * ib_v) * self.inv_aHa
+            ym = -(ib_u + mu * self.ia_u) * self.inv_det
+            ydm = -(ib_v + mu * self.ia_v) * self.inv_det
         J = 0.5 * (Huu * ym * ym + 2 * Huv * ym * ydm + Hvv * ydm * ydm) + bu * ym + bv * ydm \
-            + 12 * (y0 * y0 * i1c + y1 * y1 * i2c)
+            + 12 * (y0 * y0 * self.i1c + y1 * y1 * self.i2c)
         e1 = _segment_extreme(h1, y0, 0.0, ym, ydm, 0)
         e2 = _segment_extreme(h2, ym, ydm, y1, 0.0, 1)
         pmin = np.fmin(np.fmin(e1, e2), np.minimum(np.minimum(y0, y1), ym))
         pmax = np.fmax(np.fmax(e1, e2), np.maximum(np.maximum(y0, y1), ym))
+        tol = 1e-12
         ok = np.isfinite(J) & (pmin >= lo - tol) & (pmax <= hi + tol)
-        evals += 2 * GRID
         J = np.where(ok, J, np.inf)
         k = np.argmin(J, axis=1)
+        ax = np.arange(2)
         Jk = J[ax, k]
-        if zoom == 0 and not np.all(np.isfinite(Jk)):
+        if not np.all(np.isfinite(Jk)):
             bad = int(np.argmin(np.isfinite(Jk)))
             excess = float(np.nanmin(np.maximum(pmax[bad] - hi[bad], lo[bad] - pmin[bad])))
             raise InfeasibleError(
                 f"start/stop ({'xy'[bad]} axis): no ZMP inside the support polygon "
                 f"[{float(lo[bad, 0]):.4f}, {float(hi[bad, 0]):.4f}] m reaches the requested speed (smallest "
                 f"excursion outside {excess:.4f} m); lower the speed or lengthen the double support")
-        better = Jk < best_J
-        best_J = np.where(better, Jk, best_J)
-        best = np.where(better, np.stack([h1[ax, k], ym[ax, k], ydm[ax, k]]), best)
-        step = (b - a) / (GRID - 1)
-        a, b = np.maximum(hmin, best[0] - step), np.minimum(T - hmin, best[0] + step)
-    return best[0], best[1], best[2], best_J, evals
+        return h1[k], ym[ax, k], ydm[ax, k], Jk, 2 * len(h1)
+
+
+class SwitchingSolver:
+    """Our solver, prepared once per horizon (weights, n_ds, dt): the factorised eq. (13), the adjoint
+    ``lambda`` and the prefix sums of ``lambda_i w_i t_i^k``. :meth:`solve` then costs O(n) for the
+    output samples plus O(GRID) for the search, whatever the boundary values."""
+
+    def __init__(self, w: np.ndarray, n_ds: int, dt: float, horizon: Horizon | None = None):
+        self.w = np.asarray(w, float)
+        self.n_ds, self.dt = int(n_ds), float(dt)
+        self.horizon = horizon or Horizon(self.w, self.dt)
+        e0 = np.zeros(len(self.w))
+        e0[0] = 1.0
+        lam = self.horizon.solve_transposed(e0)
+        gw = lam * self.w
+        gw[0] = gw[-1] = 0.0
+        self._g = gw[: n_ds + 1]
+        self._lam_end = float(lam[-1])
+        self._stance_sum = float(gw[n_ds + 1:].sum())
+        self.t = np.arange(n_ds + 1) * dt
+        self._S = np.zeros((4, n_ds + 2))
+        np.cumsum(self._g[None, :] * self.t[None, :] ** np.arange(4)[:, None], axis=1, out=self._S[:, 1:])
+        self._grid = _KnotGrid(self._S, self.dt, self.n_ds)
+
+    def affine_constraint(self, prob: SwitchingProblem) -> tuple[np.ndarray, np.ndarray]:
+        """(g, K) of :meth:`SwitchingProblem.affine_constraint` from the prepared adjoint."""
+        K = self._lam_end * np.asarray(prob.v_end, float) * self.dt + np.asarray(prob.y1, float) * self._stance_sum
+        return self._g, K
+
+    def solve(self, prob: SwitchingProblem) -> SwitchingSolution:
+        """Solve ``prob`` (same weights, n_ds and dt as this solver).
+
+        Raises:
+            InfeasibleError: no knot keeps the ZMP inside ``[lo, hi]`` for one of the axes.
+        """
+        _, K = self.affine_constraint(prob)
+        dT1, ym, ydm, J, ev = self._grid.solve(prob.y0, prob.y1, np.asarray(prob.c0, float) - K,
+                                               prob.lo, prob.hi)
+        zmp = zmp_samples_xy(self.t, dT1, self.n_ds * self.dt, np.asarray(prob.y0, float), ym, ydm,
+                             np.asarray(prob.y1, float))
+        return SwitchingSolution(dT1, ym, ydm, J, zmp, com_of(prob, zmp, self.horizon), ev)
+
+
+def zmp_samples_xy(t: np.ndarray, dT1: np.ndarray, T: float, y0: np.ndarray, ym: np.ndarray,
+                   ydm: np.ndarray, y1: np.ndarray) -> np.ndarray:
+    """ZMP of eq. (16a) for both axes at times ``t`` (n,), from the cubic coefficients of eq. (18)
+    (corrected b_2). Per-axis arrays (2,). Returns (n, 2)."""
+    out = np.empty((len(t), 2))
+    for k in range(2):
+        h1 = float(dT1[k])
+        b1 = hermite_coefficients(h1, y0[k], 0.0, ym[k], ydm[k])
+        b2 = hermite_coefficients(T - h1, ym[k], ydm[k], y1[k], 0.0)
+        m = int(np.searchsorted(t, h1, side="right"))        # samples with t <= h1
+        tau1, tau2 = t[:m], t[m:] - h1
+        out[:m, k] = b1[0] + tau1 * (b1[1] + tau1 * (b1[2] + tau1 * b1[3]))
+        out[m:, k] = b2[0] + tau2 * (b2[1] + tau2 * (b2[2] + tau2 * b2[3]))
+    return out
 
 
 def solve_switching(prob: SwitchingProblem, horizon: Horizon | None = None) -> SwitchingSolution:
     """Our fast solver of the start problem (eqs. (15)-(18) plus the smoothness objective).
 
-    Raises:
-        InfeasibleError: no knot keeps the ZMP inside ``[lo, hi]`` for one of the axes.
+    Prepares a :class:`SwitchingSolver` for ``prob``'s horizon and solves; keep the solver when
+    solving many problems on one horizon.
     """
-    h = horizon or Horizon(prob.w, prob.dt)
-    g, K = prob.affine_constraint(h)
-    n_ds, T = prob.n_ds, prob.T
-    t = np.arange(n_ds + 1) * prob.dt
-    S = np.zeros((4, n_ds + 2))
-    np.cumsum(g[None, :] * t[None, :] ** np.arange(4)[:, None], axis=1, out=S[:, 1:])
-    dT1, ym, ydm, J, ev = _solve_axes(S, prob.dt, n_ds, prob.y0, prob.y1, np.asarray(prob.c0) - K,
-                                      prob.lo, prob.hi)
-    zmp = np.stack([zmp_samples(t, dT1[k], T, prob.y0[k], ym[k], ydm[k], prob.y1[k]) for k in range(2)], axis=1)
-    com = com_of(prob, zmp, h)
-    return SwitchingSolution(dT1, ym, ydm, J, zmp, com, ev)
+    return SwitchingSolver(prob.w, prob.n_ds, prob.dt, horizon).solve(prob)
 
 
 def com_of(prob: SwitchingProblem, zmp_ds: np.ndarray, horizon: Horizon | None = None) -> np.ndarray:
@@ -270,23 +297,35 @@ def com_of(prob: SwitchingProblem, zmp_ds: np.ndarray, horizon: Horizon | None =
     return h.solve(p, np.zeros(2), prob.v_end)
 
 
-def solve_stop(w_stop: np.ndarray, n_ds: int, dt: float, v_start: np.ndarray, foot_offset: np.ndarray,
-               lo: np.ndarray, hi: np.ndarray, ipopt: bool = False) -> tuple[SwitchingSolution, np.ndarray, np.ndarray]:
-    """State Switching 3 by time reversal, in coordinates relative to the last stance foot A.
+def stop_problem(w_stop: np.ndarray, n_ds: int, dt: float, v_start: np.ndarray, foot_offset: np.ndarray,
+                 lo: np.ndarray, hi: np.ndarray) -> SwitchingProblem:
+    """State Switching 3 as a start problem in reversed time, relative to the last stance foot A.
 
     The stop horizon runs from a take-off (velocity ``v_start``) through a flight, the last stance
     on A (ZMP at A = 0) and a double support of ``n_ds`` samples in which the ZMP moves from A to the
     midpoint of A and B = A + ``foot_offset``, ending at rest with the CoM over that midpoint.
-    Reversing the samples gives a start problem with ``y0 = c0 = offset/2``, ``y1 = 0`` and
-    ``v_end = -v_start``. ``lo``, ``hi`` bound the double-support ZMP relative to A.
+    The rows of eq. (9') are symmetric, so reversing the samples gives a start problem with
+    ``y0 = c0 = offset/2``, ``y1 = 0`` and ``v_end = -v_start``. ``lo``, ``hi`` bound the
+    double-support ZMP relative to A.
+    """
+    mid = 0.5 * np.asarray(foot_offset, float)
+    return SwitchingProblem(np.asarray(w_stop, float)[::-1].copy(), n_ds, dt, mid, np.zeros(2), mid,
+                            -np.asarray(v_start, float), np.asarray(lo, float), np.asarray(hi, float))
+
+
+def solve_stop(w_stop: np.ndarray, n_ds: int, dt: float, v_start: np.ndarray, foot_offset: np.ndarray,
+               lo: np.ndarray, hi: np.ndarray, solver: SwitchingSolver | None = None,
+               ipopt: bool = False) -> tuple[SwitchingSolution, np.ndarray, np.ndarray]:
+    """Solve the stop (see :func:`stop_problem`); ``solver`` must be prepared on the reversed weights.
 
     Returns (solution of the reversed problem, CoM (n+1, 2) in forward time relative to A,
     ZMP over the final double support (n_ds+1, 2) in forward time relative to A).
     """
-    mid = 0.5 * np.asarray(foot_offset, float)
-    prob = SwitchingProblem(np.asarray(w_stop, float)[::-1].copy(), n_ds, dt, mid, np.zeros(2), mid,
-                            -np.asarray(v_start, float), np.asarray(lo, float), np.asarray(hi, float))
-    sol = solve_switching_ipopt(prob) if ipopt else solve_switching(prob)
+    prob = stop_problem(w_stop, n_ds, dt, v_start, foot_offset, lo, hi)
+    if ipopt:
+        sol = solve_switching_ipopt(prob)
+    else:
+        sol = (solver or SwitchingSolver(prob.w, n_ds, dt)).solve(prob)
     return sol, sol.com[::-1].copy(), sol.zmp[::-1].copy()
 
 
@@ -357,7 +396,7 @@ class IpoptSwitching:
         x = np.asarray(out["x"]).ravel()
         dT1, ym, ydm = x[[0, 4]], x[[2, 6]], x[[3, 7]]
         t = np.arange(self.n_ds + 1) * self.dt
-        zmp = np.stack([zmp_samples(t, dT1[k], T, prob.y0[k], ym[k], ydm[k], prob.y1[k]) for k in range(2)], axis=1)
+        zmp = zmp_samples_xy(t, dT1, T, np.asarray(prob.y0, float), ym, ydm, np.asarray(prob.y1, float))
         J = np.array([smoothness(dT1[k], T - dT1[k], prob.y0[k], ym[k], ydm[k], prob.y1[k]) for k in range(2)])
         return SwitchingSolution(dT1, ym, ydm, J, zmp, com_of(prob, zmp, self.horizon),
                                  int(self.solver.stats()["iter_count"]))

@@ -46,10 +46,10 @@ GRAVITY = np.array([0.0, 0.0, -9.81])
 class Gains:
     """Task weights and PD gains of the whole-body QP."""
 
-    com_kp: tuple[float, float, float] = (60.0, 60.0, 150.0)
-    com_kd: tuple[float, float, float] = (16.0, 16.0, 25.0)
+    com_kp: tuple[float, float, float] = (60.0, 60.0, 300.0)
+    com_kd: tuple[float, float, float] = (16.0, 16.0, 35.0)
     w_com: float = 100.0
-    w_angmom: float = 0.5
+    w_angmom: float = 2.0
     angmom_kd: float = 10.0
     swing_kp: float = 900.0
     swing_kd: float = 60.0
@@ -57,8 +57,8 @@ class Gains:
     w_swing_rot: float = 3.0
     torso_kp: float = 200.0
     torso_kd: float = 30.0
-    w_torso: float = 2.0
-    w_pelvis: float = 2.0
+    w_torso: float = 0.5
+    w_pelvis: float = 1.0
     posture_kp: float = 100.0
     posture_kd: float = 20.0
     w_posture: float = 0.002

@@ -11,10 +11,15 @@ Every control tick (= physics step, 2 ms by default):
 5. log, and stop at a fall (pelvis below 60 % of its initial height, or any non-sole geom touching
    the floor).
 
-Step-level feedback (capture point): at each lift-off the swing foot's target is moved by
-``k_cp (xi - xi_ref)``, with ``xi = c + cd / omega`` the measured divergent component of motion and
-``xi_ref`` that of the plan (omega = sqrt(g / h)), clipped to ``max_step_adjust``. The CoM reference
-is the plan's; the foothold change lets the robot recover drift as the online generator would.
+Step-level feedback, TV-LIPM plans (capture point): while a foot swings (until ``freeze_u`` of its
+swing) its target is moved by ``k_cp (xi - xi_ref)``, with ``xi = c + cd / omega`` the measured
+divergent component of motion and ``xi_ref`` that of the (shifted) plan, omega = sqrt(g / h),
+clipped to ``max_step_adjust``. When the foot lands, the whole remaining plan (CoM reference and
+later footholds) is translated by that correction, blended in over ``shift_time``: the plan is
+re-anchored on where the robot actually stands, as the LIPM is translation invariant.
+
+Step-level feedback, online VHIP plans: :class:`OnlineReplanner` re-plans every next step from the
+measured CoM with the paper-003 generator itself (the capture-point shift is then off).
 """
 
 from __future__ import annotations
@@ -22,7 +27,7 @@ from __future__ import annotations
 import json
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +38,7 @@ from ..errors import InputError
 from ..io import atomic_path
 from ..swing import min_jerk
 from ..trajectory import FLIGHT, Trajectory
-from .controller import Gains, TickReference, WholeBodyController
+from .controller import Gains, TickReference, WholeBodyController, _rot_z, rotation_error
 from .plant import Plant, build_plant, standing_qpos
 
 FALL_HEIGHT_FRACTION = 0.6
@@ -61,19 +66,28 @@ class SimOptions:
     liftoff_ramp: float = 0.01          # s: unloading before a planned lift-off
     early_touchdown_u: float = 0.6      # swing progress after which a contact counts as touchdown
     late_descent_speed: float = 0.3     # m/s: how fast a late foot keeps going down
-    capture_gain: float = 0.0
-    flight_clearance: float = 0.02      # m: extra parabolic lift of swings that span a flight
+    capture_gain: float = 1.0
+    freeze_u: float = 0.7               # swing progress after which the foothold correction is frozen
+    shift_time: float = 0.1             # s: time constant of the plan shift after a corrected touchdown
+    flight_clearance: float = 0.04      # m: extra parabolic lift of swings that span a flight
     max_step_adjust: float = 0.10       # m
     settle: float = 0.0                 # s of standing before the plan starts
     pushes: tuple[Push, ...] = ()
     video: str | None = None
-    video_fps: int = 30
+    video_fps: int = 25
     viewer: bool = False
 
 
 @dataclass
 class SimResult:
-    """Logged arrays (per control tick) and the summary."""
+    """Logged arrays (per control tick) and the summary.
+
+    File keys (``save``): the arrays (``t``, ``qpos``, ``qvel``, ``tau``, ``com_pos``, ``com_ref`` (the
+    reference tracked: plan + capture-point shift), ``com_vel``, ``com_vel_ref``, ``contact`` (measured),
+    ``contact_ref``, ``stance`` (controller), ``grf`` (N, 2, 3) measured, ``grf_ref`` (QP), ``foot_pos``,
+    ``foot_ref``, ``angmom``, ``com_shift``, ``plan_index``, ``qp_ok``, ``push_force``), ``fell``,
+    ``fall_time`` (s; -1 when the robot did not fall) and ``meta`` (strict JSON, with the metrics).
+    """
 
     arrays: dict[str, np.ndarray]
     fell: bool
@@ -90,9 +104,26 @@ class SimResult:
         with atomic_path(path) as tmp:
             with open(tmp, "wb") as fh:
                 np.savez_compressed(fh, **self.arrays, fell=np.array(self.fell),
-                                    fall_time=np.array(self.fall_time),
-                                    meta=np.array(json.dumps(meta, default=float)))
+                                    fall_time=np.array(self.fall_time if self.fell else -1.0),
+                                    meta=np.array(json.dumps(finite_json(meta), allow_nan=False)))
         return path
+
+
+def finite_json(obj: Any) -> Any:
+    """``obj`` with every non-finite float replaced by None (strict JSON, no NaN in output files)."""
+    if isinstance(obj, dict):
+        return {str(k): finite_json(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [finite_json(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return finite_json(obj.tolist())
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    return obj
 
 
 # ============================================================================ plan preprocessing
@@ -123,6 +154,7 @@ def step_labels(traj: Trajectory) -> np.ndarray:
     following support (DS or SS-before-flight)."""
     c = traj.contact
     lift = np.flatnonzero(np.any(c[:-1] & ~c[1:], axis=1)) + 1
+    default = "run" if traj.meta.get("planner") == "vhip" else "walk"
     gaits = list(traj.meta.get("step_gait", []))
     labels = np.full(len(traj), "stand", dtype=object)
     if len(lift) == 0:
@@ -131,7 +163,7 @@ def step_labels(traj: Trajectory) -> np.ndarray:
     end = land_any[-1] if len(land_any) else len(traj) - 1
     for j, i0 in enumerate(lift):
         i1 = lift[j + 1] if j + 1 < len(lift) else end
-        g = gaits[j] if j < len(gaits) else (gaits[-1] if gaits else "walk")
+        g = gaits[j] if j < len(gaits) else (gaits[-1] if gaits else default)
         labels[i0:i1] = g
     return labels
 
@@ -160,8 +192,6 @@ def initial_qpos(plant: Plant, com: np.ndarray, feet: np.ndarray, yaws: np.ndarr
     q[1] += com[1] - best[2][1]
     q_post = q.copy()
     jp, jr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
-    from .controller import _rot_z, rotation_error  # local helpers
-
     err = np.inf
     for _ in range(iters):
         d.qpos[:] = q
@@ -265,9 +295,17 @@ def capture_point_offset(com, com_vel, com_ref, vel_ref, omega, gain, limit) -> 
 
 
 # ============================================================================ the loop
-def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | None = None) -> SimResult:
-    """Run ``traj`` closed-loop on the G1 and return the logged result (see module docstring)."""
+def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | None = None,
+             replanner: "OnlineReplanner | None" = None) -> SimResult:
+    """Run ``traj`` closed-loop on the G1 and return the logged result (see module docstring).
+
+    With a ``replanner`` (online VHIP plans), the plan is regenerated from the measured CoM at every
+    planning instant and the capture-point shift is not used (the generator's footholds do that job).
+    """
     opts = opts or SimOptions()
+    if replanner is not None:
+        traj = replanner.trajectory
+        opts = replace(opts, capture_gain=0.0)
     plant = plant or build_plant(opts.control_period)
     m = plant.model
     d = mujoco.MjData(m)
@@ -285,7 +323,7 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
     foot_geom_side = {g: s for s in (0, 1) for g in plant.soles[s].geoms}
 
     t_plan_end = float(traj.t[-1])
-    n_ticks = int(round((t_plan_end + opts.settle) / dt)) + 1
+    n_ticks = int(round((t_plan_end + opts.settle + (2.0 if replanner else 0.0)) / dt)) + 1
     nq, nv, nu = m.nq, m.nv, m.nu
     log = {
         "t": np.zeros(n_ticks), "qpos": np.zeros((n_ticks, nq)), "qvel": np.zeros((n_ticks, nv)),
@@ -295,7 +333,7 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
         "stance": np.zeros((n_ticks, 2), bool), "grf": np.zeros((n_ticks, 2, 3)),
         "grf_ref": np.zeros((n_ticks, 2, 3)), "foot_pos": np.zeros((n_ticks, 2, 3)),
         "foot_ref": np.zeros((n_ticks, 2, 3)), "angmom": np.zeros((n_ticks, 3)),
-        "plan_index": np.zeros(n_ticks, np.int64), "qp_ok": np.zeros(n_ticks, bool),
+        "plan_index": np.zeros(n_ticks, np.int64), "com_shift": np.zeros((n_ticks, 3)), "qp_ok": np.zeros(n_ticks, bool),
     }
     push_force = np.zeros((n_ticks, 3))
     for p in opts.pushes:
@@ -315,11 +353,16 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
     fell, fall_time, reason = False, math.nan, ""
     wall0 = time.perf_counter()
     render_wall = 0.0
+    shift = np.zeros(3)
+    shift_target = np.zeros(3)
     cf = np.zeros(6)
     n_done = n_ticks
     for k in range(n_ticks):
         t = k * dt
         tp = max(0.0, t - opts.settle)
+        if tp > float(traj.t[-1]) + 0.5 * dt:
+            n_done = k
+            break
         i = min(int(round(tp / traj.dt)), len(traj) - 1)
         mujoco.mj_forward(m, d)
         mujoco.mj_subtreeVel(m, d)
@@ -346,16 +389,34 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
             reason = f"{bad} touched the floor" if bad else "pelvis below 60% of its initial height"
             n_done = k
             break
+        if replanner is not None:
+            new = replanner.maybe_replan(tp, com, d.subtree_linvel[0])
+            if new is not None:
+                traj = new
+                pre = _plan_arrays(traj)
+                sched.traj, sched.pre = traj, pre
+                i = min(int(round(tp / traj.dt)), len(traj) - 1)
         was_swing = ~sched.stance.copy()
         if tp > 0 or opts.settle == 0:
             sched.update(tp, i, touching)
-        # capture-point foothold correction at each lift-off
+        # step-level capture-point feedback: a foot that has just landed moves the whole remaining
+        # plan by its foothold correction (blended in over shift_time); the swinging foot's
+        # correction is recomputed every tick until ``freeze_u`` of its swing
         for s in (0, 1):
-            if was_swing[s] or sched.stance[s]:
-                continue
-            if opts.capture_gain > 0:
-                sched.offset[s] = capture_point_offset(com, d.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i],
-                                                       omega, opts.capture_gain, opts.max_step_adjust)
+            if was_swing[s] and sched.stance[s]:
+                shift_target += sched.offset[s]
+                sched.offset[s] = 0.0
+        shift += (shift_target - shift) * min(1.0, dt / opts.shift_time)
+        com_ref = traj.com_pos[i] + shift
+        if opts.capture_gain > 0:
+            for s in (0, 1):
+                if sched.stance[s]:
+                    continue
+                u = (tp - sched.swing_start[s]) / max(sched.swing_end[s] - sched.swing_start[s], 1e-6)
+                if u < opts.freeze_u:
+                    sched.offset[s] = capture_point_offset(com, d.subtree_linvel[0], traj.com_pos[i] + shift_target,
+                                                           traj.com_vel[i], omega, opts.capture_gain,
+                                                           opts.max_step_adjust)
         foot_ref = traj.foot_pos[i].copy()
         foot_vel = pre["foot_vel"][i].copy()
         foot_acc = pre["foot_acc"][i].copy()
@@ -364,7 +425,7 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
                 continue
             dur = max(sched.swing_end[s] - sched.swing_start[s], 1e-6)
             u = (tp - sched.swing_start[s]) / dur
-            foot_ref[s] += sched.offset[s] * min_jerk(np.array(u))
+            foot_ref[s] += shift + sched.offset[s] * min_jerk(np.array(u))
             if sched.swing_flight[s] and 0.0 <= u <= 1.0:
                 # running swing: lift off and set down with a vertical speed (parabolic bump)
                 hb = opts.flight_clearance
@@ -377,7 +438,7 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
                 foot_vel[s] = [0.0, 0.0, -opts.late_descent_speed]
                 foot_acc[s] = 0.0
         ref = TickReference(
-            com_pos=traj.com_pos[i], com_vel=traj.com_vel[i], com_acc=traj.com_acc[i],
+            com_pos=com_ref, com_vel=traj.com_vel[i], com_acc=traj.com_acc[i],
             stance=sched.stance.copy(), fz_max=sched.force_caps(tp), foot_pos=foot_ref,
             foot_vel=foot_vel, foot_acc=foot_acc, yaw=pre["yaw"][i], torso_yaw=float(pre["yaw"][i].mean()))
         tau, info = ctrl.compute(d, ref)
@@ -388,7 +449,8 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
         log["qvel"][k] = d.qvel
         log["tau"][k] = tau
         log["com_pos"][k] = com
-        log["com_ref"][k] = traj.com_pos[i]
+        log["com_ref"][k] = com_ref
+        log["com_shift"][k] = shift
         log["com_vel"][k] = d.subtree_linvel[0]
         log["com_vel_ref"][k] = traj.com_vel[i]
         log["contact"][k] = touching
@@ -418,6 +480,7 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
         "real_time_factor": sim_time / wall if wall > 0 else math.nan,
         "torque_limit": plant.torque_limit.tolist(), "pelvis_height0": pelvis0,
         "pushes": [p.__dict__ for p in opts.pushes], "settle": opts.settle,
+        "replans": replanner.replans if replanner is not None else 0,
     }
     if renderer is not None and frames:
         _write_video(opts.video, frames, opts.video_fps)
@@ -433,7 +496,7 @@ def simulate(traj: Trajectory, opts: SimOptions | None = None, plant: Plant | No
 # ============================================================================ rendering
 def _make_renderer(m: mujoco.MjModel):
     try:
-        return mujoco.Renderer(m, height=360, width=640)
+        return mujoco.Renderer(m, height=270, width=480)
     except Exception as exc:  # noqa: BLE001
         raise InputError("video", "render", f"an OpenGL context (set MUJOCO_GL=egl or osmesa): {exc}") from None
 
@@ -489,3 +552,76 @@ def _phase_runs(mask: np.ndarray) -> list[tuple[int, int]]:
     m = np.concatenate([[False], mask, [False]]).astype(np.int8)
     d = np.diff(m)
     return list(zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1)))
+
+
+class OnlineReplanner:
+    """Closed-loop driver of the online VHIP generator (paper 003, ``gaitshift.planners.online``).
+
+    The scenario's scripted speed commands are fed to a live :class:`OnlineGenerator` as simulated
+    time passes. At every planning instant (the take-off that plans the next step) the generator
+    re-plans from the **measured** CoM position and velocity (:meth:`OnlineGenerator.replan`: the
+    committed footholds are kept, the next foothold is chosen again by Algorithm 1), so drift is
+    corrected by footholds as the paper intends. The remainder of the run is then generated on a
+    copy of the generator, which gives the loop its look-ahead (swing targets, contact schedule).
+    """
+
+    def __init__(self, scenario: Any) -> None:
+        from ..planners.online import OnlineGenerator  # noqa: PLC0415
+
+        self.sc = scenario
+        self.gen = OnlineGenerator(scenario)
+        self.events = sorted(((c.t, c.vx, c.vy) for c in scenario.commands), key=lambda c: c[0])
+        self.stop_at = (scenario.stop_at if scenario.stop_at is not None
+                        else max(c[0] for c in self.events) + 2.0)
+        self._ci = 0
+        self._stopped = False
+        self._done: set[int] = set()
+        self.replans = 0
+        self._apply_due()
+        self.trajectory = self._finish_copy()
+
+    def _apply_due(self) -> None:
+        g = self.gen
+        while self._ci < len(self.events) and self.events[self._ci][0] <= g.t + 1e-12:
+            g.command(self.events[self._ci][1], self.events[self._ci][2])
+            self._ci += 1
+        if not self._stopped and self.stop_at <= g.t + 1e-12:
+            g.stop()
+            self._stopped = True
+
+    def _advance_to(self, index: int) -> None:
+        g = self.gen
+        dt = g.dt
+        while g._i < index and not g.finished:
+            nxt = self.events[self._ci][0] if self._ci < len(self.events) else math.inf
+            if not self._stopped:
+                nxt = min(nxt, self.stop_at)
+            target = index if not math.isfinite(nxt) else min(index, max(g._i + 1, math.ceil(nxt / dt - 1e-9)))
+            g.advance(target - g._i)
+            self._apply_due()
+
+    def _finish_copy(self) -> Trajectory:
+        import copy  # noqa: PLC0415
+
+        from ..planners.online import run_commands  # noqa: PLC0415
+
+        g2 = copy.deepcopy(self.gen)
+        rest = [e for e in self.events[self._ci:]]
+        run_commands(g2, rest, self.stop_at)
+        return g2.trajectory()
+
+    def maybe_replan(self, t: float, com: np.ndarray, com_vel: np.ndarray) -> Trajectory | None:
+        """Re-plan at the planning instant that ``t`` reaches; returns the new plan or None."""
+        g = self.gen
+        idx = int(round(t / g.dt))
+        if abs(idx * g.dt - t) > 1e-9:
+            return None
+        self._advance_to(idx)  # the live generator follows simulated time
+        nxt = getattr(g, "_next_plan", None)
+        if nxt is None or nxt in self._done or g._i != nxt or g.state != "running":
+            return None
+        g.replan(np.asarray(com)[:2], np.asarray(com_vel)[:2])
+        self._done.add(nxt)
+        self.replans += 1
+        self.trajectory = self._finish_copy()
+        return self.trajectory

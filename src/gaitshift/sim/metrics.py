@@ -7,7 +7,9 @@
   over the constant-speed running steps (stride equal to the plan's largest stride), or over all
   running steps when none is constant;
 * speed error two steps after each command: for every change of ``command_vel`` (online plans), the
-  mean measured forward CoM speed between the 2nd and 3rd touchdowns after it, minus the command;
+  mean measured forward CoM speed over the step from the 3rd to the 4th take-off after it (the online
+  generator reaches a command at the take-off of the second step after the one already planned),
+  minus the command; the plan's own mean speed over the same window is reported alongside;
 * peak |tau| / tau_max over all joints and ticks;
 * real-time factor = simulated time / wall time.
 """
@@ -47,6 +49,11 @@ def summarize(result: Any, traj: Trajectory, plant: Any) -> dict[str, Any]:
         if np.any(sel):
             rms[g] = np.sqrt(np.mean(err[sel] ** 2, axis=0)).tolist()
     out["com_rms"] = rms
+    # against the original plan (without the capture-point shift of the reference)
+    err_plan = a["com_pos"] - (a["com_ref"] - a["com_shift"]) if "com_shift" in a else err
+    out["com_rms_plan"] = {g: np.sqrt(np.mean(err_plan[labels == g] ** 2, axis=0)).tolist()
+                           for g in ("stand", "walk", "run") if np.any(labels == g)}
+    out["max_shift"] = float(np.max(np.abs(a["com_shift"][:, :2]))) if "com_shift" in a else 0.0
     out["com_max_abs"] = np.max(np.abs(err), axis=0).tolist()
 
     # steps completed: planned touchdowns before the end of the run
@@ -95,17 +102,26 @@ def summarize(result: Any, traj: Trajectory, plant: Any) -> dict[str, Any]:
         change = np.flatnonzero(valid[1:] & (~valid[:-1] | (np.abs(np.diff(cmd[:, 0])) > 1e-9))) + 1
         if valid[0]:
             change = np.concatenate([[0], change])
+        air = ~np.any(c, axis=1)
+        takeoff = np.flatnonzero(~air[:-1] & air[1:]) + 1
         for ic in change:
-            tl = traj.t[land[land > ic]]
-            if len(tl) < 3 or tl[2] > t_end:
+            to = traj.t[takeoff[takeoff > ic]]
+            # the generator reaches a command at the 3rd take-off after it (to_{k+2}); measure the mean
+            # forward speed over the step that follows (to_{k+2}, to_{k+3})
+            if len(to) < 4 or to[3] > t_end:
                 continue
-            sel = (tt >= tl[1]) & (tt < tl[2])
+            sel = (tt >= to[2]) & (tt < to[3])
+            psel = (traj.t >= to[2]) & (traj.t < to[3])
             if np.any(sel):
                 v = float(np.mean(a["com_vel"][sel, 0]))
-                errs.append([float(traj.t[ic]), float(cmd[ic, 0]), v, v - float(cmd[ic, 0])])
+                vp = float(np.mean(traj.com_vel[psel, 0]))
+                errs.append([float(traj.t[ic]), float(cmd[ic, 0]), v, v - float(cmd[ic, 0]), vp])
     out["speed_errors"] = errs
     out["speed_error_max"] = float(max((abs(e[3]) for e in errs), default=math.nan))
 
+    qw = a["qpos"][:, 3:7]  # pelvis quaternion (w, x, y, z): tilt = angle between its z axis and world z
+    r22 = 1.0 - 2.0 * (qw[:, 1] ** 2 + qw[:, 2] ** 2)
+    out["max_pelvis_tilt_deg"] = float(np.degrees(np.max(np.arccos(np.clip(r22, -1.0, 1.0)))))
     out["peak_torque_fraction"] = float(np.max(np.abs(a["tau"]) / plant.torque_limit))
     out["real_time_factor"] = float(result.meta["real_time_factor"])
     out["qp_failures"] = int(np.sum(~a["qp_ok"]))
@@ -131,12 +147,17 @@ def format_metrics(metrics: dict[str, Any]) -> str:
     rows.append(("steps completed", f"{metrics.get('steps_completed', 0)} / {metrics.get('steps_planned', 0)}"))
     for g, r in metrics.get("com_rms", {}).items():
         rows.append((f"CoM RMS {g} x/y/z (cm)", " / ".join(f"{100 * v:.2f}" for v in r)))
+    for g, r in metrics.get("com_rms_plan", {}).items():
+        if g != "stand":
+            rows.append((f"  vs original plan {g} (cm)", " / ".join(f"{100 * v:.2f}" for v in r)))
     if "flight_ratio" in metrics:
         rows.append(("flight planned / achieved (s)",
                      f"{metrics['flight_planned_mean']:.3f} / {metrics['flight_achieved_mean']:.3f} "
                      f"(ratio {metrics['flight_ratio']:.2f})"))
-    for t, c, v, e in metrics.get("speed_errors", []):
-        rows.append((f"speed @cmd t={t:.2f}s", f"cmd {c:.2f}  meas {v:.2f}  err {e:+.3f} m/s"))
+    for t, c, v, e, vp in metrics.get("speed_errors", []):
+        rows.append((f"speed, command at t={t:.2f}s", f"cmd {c:.2f}  plan {vp:.2f}  meas {v:.2f}  err {e:+.3f} m/s"))
+    if "max_pelvis_tilt_deg" in metrics:
+        rows.append(("max pelvis tilt (deg)", f"{metrics['max_pelvis_tilt_deg']:.1f}"))
     rows.append(("peak torque / limit", f"{metrics['peak_torque_fraction']:.2f}"))
     rows.append(("max step speed (m/s)", f"{metrics.get('mean_forward_speed_max', 0):.2f}"))
     rows.append(("QP failures", str(metrics.get("qp_failures", 0))))
