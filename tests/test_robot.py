@@ -172,3 +172,24 @@ def test_second_robot_runs_the_pipeline_from_its_yaml_alone(tmp_path):
     q = joints.qpos[:, 7:]
     assert np.all(q >= lo - 1e-9) and np.all(q <= hi + 1e-9)
     assert np.all(np.isfinite(joints.qvel))
+
+
+def test_scale_command_writes_a_loadable_scenario_at_the_robots_com_height(tmp_path, capsys):
+    import pytest as _pytest
+
+    from gaitshift.cli import main
+    from gaitshift.robot import load_robot
+    from gaitshift.scenario import load_scenario
+
+    out = tmp_path / "t1.yaml"
+    with _pytest.raises(SystemExit) as exc:
+        main(["scale", "paper001-table2-walk-run-walk", "--robot", "t1", "--out", str(out)])
+    assert exc.value.code == 0
+    sc = load_scenario(out)
+    t1 = load_robot("t1")
+    assert sc.height == _pytest.approx(t1.com_height)
+    lam = t1.com_height / 0.95
+    assert sc.profile.max_stride == _pytest.approx(0.5 * lam)
+    with _pytest.raises(SystemExit) as exc:
+        main(["scale", "paper001-table2-walk-run-walk", "--robot", "t1", "--out", str(tmp_path / "x.txt")])
+    assert exc.value.code == 2 and not (tmp_path / "x.txt").exists()

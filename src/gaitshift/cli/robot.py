@@ -68,3 +68,30 @@ def animate_cmd(
     jt = JointTrajectory.load(joints) if joints is not None else None
     path, _ = animate(file, out, robot=robot, rate=rate, fps=fps, width=width, height=height, joints=jt)
     typer.echo(f"wrote {path}")
+
+
+@app.command("scale")
+def scale_cmd(
+    scenario: str = typer.Argument(..., help="Scenario to scale (built-in name or YAML)."),
+    robot: str = typer.Option("g1", "--robot", help="Built-in robot name (g1, t1) or robot YAML path."),
+    out: Path = typer.Option(..., "--out", help="Output scenario YAML."),
+) -> None:
+    """Scale a paper scenario to a robot (CoM height, strides, feet; see docs/robot.md) and write it as YAML."""
+    import json
+
+    import yaml
+
+    from ..errors import InputError
+    from ..io import atomic_path
+    from ..robot.scaling import scale_factor, scale_scenario
+    from ..scenario import load_scenario
+
+    if out.suffix.lower() not in (".yaml", ".yml"):
+        raise InputError("--out", str(out), "a file ending in .yaml or .yml")
+    sc = load_scenario(scenario)
+    scaled = scale_scenario(sc, robot)
+    data = json.loads(scaled.model_dump_json())
+    with atomic_path(out) as tmp:
+        tmp.write_text(f"# {sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f} (gaitshift scale)\n"
+                       + yaml.safe_dump(data, sort_keys=False))
+    typer.echo(f"scaled {sc.name} by {scale_factor(sc, robot):.4f} for {robot} -> {out}")
