@@ -8,6 +8,7 @@ click usage errors) end with one line on stderr and exit code 2, never a traceba
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 
 import typer
@@ -36,6 +37,7 @@ def _load_commands() -> None:
 
 def main(argv: list[str] | None = None) -> None:
     """Run the CLI; exit 2 with a one-line message on bad input."""
+    os.environ.setdefault("MUJOCO_GL", "egl")  # headless rendering; must precede any mujoco import
     _load_commands()
     try:
         rv = app(args=argv, standalone_mode=False, prog_name="gaitshift")

@@ -94,9 +94,10 @@ DEMO_SCENARIO = "paper001-table2-walk-run-walk"
 @app.command("demo")
 def demo_cmd(
     out: Path = typer.Option(Path("out/demo"), "--out", help="Output folder."),
-    video: bool = typer.Option(True, help="Also render the whole-body video on the G1 when the robot layer is installed."),
+    video: bool = typer.Option(True, help="Render the whole-body and simulation videos (slow: software GL)."),
 ) -> None:
-    """The main job on a built-in default: plan walk-run-walk, write its file and figures."""
+    """The main job: plan walk-run-walk (paper 001), write its file and figures, render the G1's
+    whole-body motion, and run it closed-loop on the G1 in MuJoCo (video, figures, summary)."""
     from .. import plan
 
     out.mkdir(parents=True, exist_ok=True)
@@ -111,6 +112,9 @@ def demo_cmd(
 
         path, joints = animate("g1-walk-run-walk", out / "g1_walk_run_walk.mp4", robot="g1")
         typer.echo(f"whole-body IK on the G1 ({len(joints.t)} samples) and video -> {path}")
+    from .sim import demo_simulation
+
+    demo_simulation(out, video)
 
 
 @app.command("check")

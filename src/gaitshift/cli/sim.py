@@ -65,7 +65,7 @@ def simulate_cmd(
 DEMO_SIM_SCENARIO = "g1-walk-run-walk"
 
 
-def _demo_simulation(out: Path, video: bool) -> None:
+def demo_simulation(out: Path, video: bool) -> None:
     """``make demo`` step: simulate walk-run-walk on the G1; video, figures and summary into ``out``."""
     from .. import plan
     from ..scenario import builtin_names, load_scenario
@@ -91,11 +91,3 @@ def _demo_simulation(out: Path, video: bool) -> None:
         tmp.write_text(table + "\n")
     typer.echo(table)
     typer.echo(f"wrote {out / 'sim.npz'}" + (f", {vid}" if vid else "") + f", {out / 'sim_summary.txt'}")
-
-
-try:
-    from .core import DEMO_HOOKS
-
-    DEMO_HOOKS.append(_demo_simulation)
-except ImportError:  # pragma: no cover - core commands absent
-    pass

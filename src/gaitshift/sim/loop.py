@@ -623,5 +623,11 @@ class OnlineReplanner:
         g.replan(np.asarray(com)[:2], np.asarray(com_vel)[:2])
         self._done.add(nxt)
         self.replans += 1
-        self.trajectory = self._finish_copy()
-        return self.trajectory
+        tr = self._finish_copy()
+        # the sample at the re-plan joins the old plan (before) and the new one (from the measured
+        # position on): its central-difference velocity mixes both, so take the new plan's forward
+        # difference there (a take-off sample: flight, no CoM task uses it, only logs and figures)
+        if 0 <= idx < len(tr) - 1:
+            tr.com_vel[idx] = (tr.com_pos[idx + 1] - tr.com_pos[idx]) / tr.dt
+        self.trajectory = tr
+        return tr
