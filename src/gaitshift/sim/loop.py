@@ -592,12 +592,12 @@ class OnlineReplanner:
     def _advance_to(self, index: int) -> None:
         g = self.gen
         dt = g.dt
-        while g._i < index and not g.finished:
+        while g.tick_index < index and not g.finished:
             nxt = self.events[self._ci][0] if self._ci < len(self.events) else math.inf
             if not self._stopped:
                 nxt = min(nxt, self.stop_at)
-            target = index if not math.isfinite(nxt) else min(index, max(g._i + 1, math.ceil(nxt / dt - 1e-9)))
-            g.advance(target - g._i)
+            target = index if not math.isfinite(nxt) else min(index, max(g.tick_index + 1, math.ceil(nxt / dt - 1e-9)))
+            g.advance(target - g.tick_index)
             self._apply_due()
 
     def _finish_copy(self) -> Trajectory:
@@ -617,8 +617,8 @@ class OnlineReplanner:
         if abs(idx * g.dt - t) > 1e-9:
             return None
         self._advance_to(idx)  # the live generator follows simulated time
-        nxt = getattr(g, "_next_plan", None)
-        if nxt is None or nxt in self._done or g._i != nxt or g.state != "running":
+        nxt = g.next_plan_index
+        if nxt is None or nxt in self._done or g.tick_index != nxt or g.state != "running":
             return None
         g.replan(np.asarray(com)[:2], np.asarray(com_vel)[:2])
         self._done.add(nxt)
