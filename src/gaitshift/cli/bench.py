@@ -19,8 +19,7 @@ def bench_cmd(
     only: Optional[list[str]] = typer.Option(None, "--only", help="Run benchmarks whose name contains this."),
 ) -> None:
     """Print median and p99 of every benchmark with its baseline ratio and the paper's figure."""
-    m = _bench.machine()
-    typer.echo(f"machine: {m['cpu']}, {m['cores']} cores, Python {m['python']}, numpy {m['numpy']}")
+    typer.echo(_bench.machine_line())
     results = _bench.run(quick=quick, only=only, progress=lambda n: typer.echo(f"  running {n} ...", err=True))
     typer.echo(_bench.format_table(results))
     if json_out is not None:

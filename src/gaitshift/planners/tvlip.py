@@ -215,24 +215,24 @@ def build_boxes(seq: GaitSequence, foot_size, margin: float, zmp_z) -> tuple[Box
     fs = seq.footstep_array
     K = len(kinds)
     half = np.array([foot_size[0] / 2 - margin, foot_size[1] / 2 - margin])
-    origin = np.zeros((K + 1, 2))
-    yaw = np.zeros(K + 1)
-    hi = np.zeros((K + 1, 2))
-    zo = np.zeros(K + 1)
-    for b in range(K + 1):
-        neigh = [i for i in (b - 1, b) if 0 <= i < K and kinds[i] != FLIGHT]
-        ss = [i for i in neigh if kinds[i] == SS]
-        if ss:
-            foot = fs[max(on[ss[0]])]
-            origin[b], yaw[b], hi[b], zo[b] = foot[:2], foot[3], half, foot[2]
-        else:
-            a, bb = fs[on[neigh[0], LEFT]], fs[on[neigh[0], RIGHT]]
-            origin[b] = (a[:2] + bb[:2]) / 2
-            yaw[b] = math.atan2(math.sin(a[3]) + math.sin(bb[3]), math.cos(a[3]) + math.cos(bb[3]))
-            sep = np.abs(np.array([[math.cos(yaw[b]), math.sin(yaw[b])],
-                                   [-math.sin(yaw[b]), math.cos(yaw[b])]]) @ (a[:2] - bb[:2]))
-            hi[b] = half + sep / 2
-            zo[b] = (a[2] + bb[2]) / 2
+    prev = np.r_[-1, kinds]  # kind of the phase before / after each boundary (-1: none)
+    nxt = np.r_[kinds, -1]
+    b = np.arange(K + 1)
+    ss = np.where(prev == SS, b - 1, np.where(nxt == SS, b, -1))  # neighbouring single support
+    ds = np.where(prev == DS, b - 1, b)  # otherwise a neighbouring double support
+    on_ss = on[np.maximum(ss, 0)].max(axis=1)
+    on_ds = on[np.minimum(ds, K - 1)]
+    a, bb = fs[on_ds[:, LEFT]], fs[on_ds[:, RIGHT]]
+    mid_yaw = np.arctan2(np.sin(a[:, 3]) + np.sin(bb[:, 3]), np.cos(a[:, 3]) + np.cos(bb[:, 3]))
+    d = a[:, :2] - bb[:, :2]
+    sep = np.abs(np.stack([np.cos(mid_yaw) * d[:, 0] + np.sin(mid_yaw) * d[:, 1],
+                           -np.sin(mid_yaw) * d[:, 0] + np.cos(mid_yaw) * d[:, 1]], -1))
+    is_ss = (ss >= 0)[:, None]
+    foot = fs[on_ss]
+    origin = np.where(is_ss, foot[:, :2], (a[:, :2] + bb[:, :2]) / 2)
+    yaw = np.where(is_ss[:, 0], foot[:, 3], mid_yaw)
+    hi = np.where(is_ss, half, half + sep / 2)
+    zo = np.where(is_ss[:, 0], foot[:, 2], (a[:, 2] + bb[:, 2]) / 2)
     cy, sy = np.cos(yaw), np.sin(yaw)
     rot = np.stack([np.stack([cy, -sy], -1), np.stack([sy, cy], -1)], -2)  # columns: local x, y
     xy = Boxes(origin, rot, -hi, hi, origin.copy())
