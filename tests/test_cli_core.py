@@ -126,3 +126,14 @@ def test_check_passes_a_plan_and_fails_a_corrupted_one(tmp_path, capsys):
     code, stdout, _ = run(["check", str(bad), "--json"], capsys)
     rep = json.loads(stdout)
     assert code == 1 and not rep["pass"]["position_jump"] and not rep["pass"]["zmp_identity"]
+
+
+def test_full_quick_bench_runs_every_topic(tmp_path):
+    """`gaitshift bench --quick` (the CI smoke run) runs every registered benchmark to completion."""
+    out = tmp_path / "quick.json"
+    res = subprocess.run([GAITSHIFT, "bench", "--quick", "--json", str(out)], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr[-2000:]
+    ops = " ".join(f"{r['operation']} {r['baseline']}" for r in json.loads(out.read_text())["results"])
+    for needle in ("T_r solve", "TV-LIPM boundary solve", "eq. (13) solve", "foothold", "start NLP",
+                   "one online step", "whole-body IK", "G1 control tick", "SLIP optimise", "IPOPT"):
+        assert needle in ops, needle
