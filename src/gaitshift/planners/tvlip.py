@@ -50,14 +50,14 @@ class Boxes:
         origin: (K+1, d) box frame origin (sole centre or mid-point of both soles), m.
         rot: (K+1, d, d) columns are the local axes in world coordinates (R_foot).
         lo, hi: (K+1, d) bounds of R^T (c - origin), m.
-        ref: (K+1, d) regularisation target of the ZMP, m.
+
+    The origin is also the regularisation target of the ZMP.
     """
 
     origin: np.ndarray
     rot: np.ndarray
     lo: np.ndarray
     hi: np.ndarray
-    ref: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -152,7 +152,7 @@ def _solve_axes(kind, T, tau, g, boxes: Boxes, p0, v0, pK, vK, const_scale: floa
         bound = np.where(active_hi, hi, lo) * act
         H = W_REG**2 * np.eye(d)[None] + W_HINGE**2 * np.einsum("kia,ka,kja->kij", R, act, R)
         # stationarity rows of c: H c = w_r^2 c_ref + w_h^2 R (bound + R^T origin) on active components
-        rhs_c = W_REG**2 * boxes.ref \
+        rhs_c = W_REG**2 * org \
             + W_HINGE**2 * np.einsum("kia,ka->ki", R, act * (bound + np.einsum("kja,kj->ka", R, org)))
         hr = np.repeat(c_idx, d, axis=1).reshape(-1)
         hc = np.tile(c_idx, (1, d)).reshape(-1)
@@ -235,9 +235,8 @@ def build_boxes(seq: GaitSequence, foot_size, margin: float, zmp_z) -> tuple[Box
     zo = np.where(is_ss[:, 0], foot[:, 2], (a[:, 2] + bb[:, 2]) / 2)
     cy, sy = np.cos(yaw), np.sin(yaw)
     rot = np.stack([np.stack([cy, -sy], -1), np.stack([sy, cy], -1)], -2)  # columns: local x, y
-    xy = Boxes(origin, rot, -hi, hi, origin.copy())
-    z = Boxes(zo[:, None], np.ones((K + 1, 1, 1)), np.full((K + 1, 1), zmp_z[0]),
-              np.full((K + 1, 1), zmp_z[1]), zo[:, None].copy())
+    xy = Boxes(origin, rot, -hi, hi)
+    z = Boxes(zo[:, None], np.ones((K + 1, 1, 1)), np.full((K + 1, 1), zmp_z[0]), np.full((K + 1, 1), zmp_z[1]))
     return xy, z
 
 
@@ -270,16 +269,9 @@ def sample(seq: GaitSequence, bp: BoundaryPlan, g: float, dt: float, swing_heigh
     # a sample within rounding of a boundary starts the new phase
     k = np.clip(np.searchsorted(tb, t + 1e-9 * dt, side="right") - 1, 0, len(seq.phases) - 1)
     s = np.maximum(t - tb[k], 0.0)
-    kinds, T, tau = seq.kind[k], seq.stiffness[k], seq.duration[k]
+    kinds, T = seq.kind[k], seq.stiffness[k]
     sup = kinds != FLIGHT
-    fl = ~sup
-    pos, vel, acc = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
-    zmp = np.full((n, 3), np.nan)
-    ks = k[sup]
-    pos[sup], vel[sup], acc[sup], zmp[sup] = support_state(bp.p[ks], bp.v[ks], bp.c[ks], bp.c[ks + 1], T[sup],
-                                                           tau[sup], s[sup], g)
-    kf = k[fl]
-    pos[fl], vel[fl], acc[fl] = flight_state(bp.p[kf], bp.v[kf], s[fl], g)
+    pos, vel, acc, zmp = _evaluate(seq, bp, k, s, g)
     out = {
         "t": t,
         "com_pos": pos,
@@ -294,6 +286,21 @@ def sample(seq: GaitSequence, bp: BoundaryPlan, g: float, dt: float, swing_heigh
     out["contact"] = on[k] >= 0
     out["foot_pos"] = _feet(seq, t, k, swing_height)
     return out
+
+
+def _evaluate(seq: GaitSequence, bp: BoundaryPlan, k: np.ndarray, s: np.ndarray, g: float):
+    """CoM position, velocity, acceleration and ZMP, each (len(k), 3), at time ``s`` into phase ``k``:
+    eqs. (1)-(4) in support, (5)-(6) in flight (ZMP NaN)."""
+    n = len(k)
+    sup = seq.kind[k] != FLIGHT
+    p, v, a = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+    c = np.full((n, 3), np.nan)
+    ks = k[sup]
+    p[sup], v[sup], a[sup], c[sup] = support_state(bp.p[ks], bp.v[ks], bp.c[ks], bp.c[ks + 1], seq.stiffness[ks],
+                                                   seq.duration[ks], s[sup], g)
+    kf = k[~sup]
+    p[~sup], v[~sup], a[~sup] = flight_state(bp.p[kf], bp.v[kf], s[~sup], g)
+    return p, v, a, c
 
 
 def _feet(seq: GaitSequence, t: np.ndarray, k: np.ndarray, swing_height: float) -> np.ndarray:
@@ -494,23 +501,12 @@ class Replanner:
         K = len(self._seq.phases)
         k = np.clip(np.searchsorted(tb, t + 1e-12, side="right") - 1, 0, K - 1)
         s = np.clip(t - tb[k], 0.0, self._seq.duration[k])
-        sup = self._seq.kind[k] != FLIGHT
-        bp = self._bp
-        p, v, a = np.empty((len(t), 3)), np.empty((len(t), 3)), np.empty((len(t), 3))
-        c = np.full((len(t), 3), np.nan)
-        ks = k[sup]
-        p[sup], v[sup], a[sup], c[sup] = support_state(bp.p[ks], bp.v[ks], bp.c[ks], bp.c[ks + 1],
-                                                       self._seq.stiffness[ks], self._seq.duration[ks], s[sup], self.g)
-        kf = k[~sup]
-        p[~sup], v[~sup], a[~sup] = flight_state(bp.p[kf], bp.v[kf], s[~sup], self.g)
-        return p, v, a, c
+        return _evaluate(self._seq, self._bp, k, s, self.g)
 
 
 def _boxes_from_flight(sub: GaitSequence, foot_size, margin, zmp_z):
     """Boxes when the first (truncated) phase is a flight: boundary 0's ZMP does not act; give it the
     box of the landing boundary so that the regularisation has a target."""
-    kinds = sub.kind.copy()
     xy, z = build_boxes(GaitSequence(sub.phases[1:], sub.footsteps, sub.step_gait), foot_size, margin, zmp_z)
-    first = lambda b: Boxes(*(np.concatenate([arr[:1], arr]) for arr in (b.origin, b.rot, b.lo, b.hi, b.ref)))
-    del kinds
+    first = lambda b: Boxes(*(np.concatenate([arr[:1], arr]) for arr in (b.origin, b.rot, b.lo, b.hi)))
     return first(xy), first(z)
