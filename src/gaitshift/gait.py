@@ -121,27 +121,9 @@ def stride_profile(n_steps: int, max_stride: float, accelerate: int, decelerate:
     return max_stride * np.minimum(up, down)
 
 
-def footsteps_from_profile(n_steps: int, first_swing: int, strides: np.ndarray, step_width: float,
-                           yaw_rate: float = 0.0, step_height: float = 0.0) -> list[Footstep]:
-    """Footholds for ``n_steps`` steps plus the closing step, after the two initial feet.
-
-    The path centre advances by ``strides[i]`` along the heading, which turns by ``yaw_rate`` rad per
-    step; each foothold sits ``step_width/2`` to its side of the path and ``step_height`` higher per step.
-    """
-    feet = [Footstep(0.0, step_width / 2, 0.0, 0.0, LEFT), Footstep(0.0, -step_width / 2, 0.0, 0.0, RIGHT)]
-    cx = cy = cz = heading = 0.0
-    side = first_swing
-    for i in range(n_steps + 1):  # the last one is the closing step (no advance)
-        if i < n_steps:
-            heading += yaw_rate
-            cx += strides[i] * math.cos(heading)
-            cy += strides[i] * math.sin(heading)
-            cz += step_height
-        sign = 1.0 if side == LEFT else -1.0
-        feet.append(Footstep(cx - sign * step_width / 2 * math.sin(heading),
-                             cy + sign * step_width / 2 * math.cos(heading), cz, heading, side))
-        side = 1 - side
-    return feet
+def initial_feet(step_width: float) -> list[Footstep]:
+    """The two standing feet a plan starts on: left at (0, +w/2, 0), right at (0, -w/2, 0), yaw 0."""
+    return [Footstep(0.0, step_width / 2, 0.0, 0.0, LEFT), Footstep(0.0, -step_width / 2, 0.0, 0.0, RIGHT)]
 
 
 def closing_footstep(last: Footstep, step_width: float) -> Footstep:
@@ -149,6 +131,31 @@ def closing_footstep(last: Footstep, step_width: float) -> Footstep:
     sign = 1.0 if last.side == RIGHT else -1.0  # the new foot is on the other side
     return Footstep(last.x - sign * step_width * math.sin(last.yaw), last.y + sign * step_width * math.cos(last.yaw),
                     last.z, last.yaw, 1 - last.side)
+
+
+def footsteps_from_profile(n_steps: int, first_swing: int, strides: np.ndarray, step_width: float,
+                           yaw_rate: float = 0.0, step_height: float = 0.0) -> list[Footstep]:
+    """Footholds for ``n_steps`` steps plus the closing step, after the two initial feet.
+
+    The path centre advances by ``strides[i]`` along the heading, which turns by ``yaw_rate`` rad per
+    step; each foothold sits ``step_width/2`` to its side of the path and ``step_height`` higher per step.
+    """
+    feet = initial_feet(step_width)
+    last = feet[1 - first_swing]  # the stance foot of the first step
+    cx = cy = cz = heading = 0.0
+    side = first_swing
+    for i in range(n_steps):
+        heading += yaw_rate
+        cx += strides[i] * math.cos(heading)
+        cy += strides[i] * math.sin(heading)
+        cz += step_height
+        sign = 1.0 if side == LEFT else -1.0
+        last = Footstep(cx - sign * step_width / 2 * math.sin(heading),
+                        cy + sign * step_width / 2 * math.cos(heading), cz, heading, side)
+        feet.append(last)
+        side = 1 - side
+    feet.append(closing_footstep(last, step_width))
+    return feet
 
 
 def build_sequence(step_gait: list[str], footsteps: list[Footstep], k: Stiffness, single_support: float,
@@ -192,8 +199,6 @@ def build_sequence(step_gait: list[str], footsteps: list[Footstep], k: Stiffness
     durs.append(stop)
     ons.append(tuple(on))
     stiff = _assign_stiffness(kinds, k)
-    # in flight the foot that swings next is the one whose footstep is about to be used; fix `on`
-    # for the SS after each flight: its stance foot is the one that just landed (already set above).
     phases = tuple(Phase(kd, d, T, o) for kd, d, T, o in zip(kinds, durs, stiff, ons))
     return GaitSequence(phases, tuple(footsteps), tuple(step_gait))
 

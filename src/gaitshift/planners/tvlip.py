@@ -29,8 +29,8 @@ import numpy as np
 from scipy.linalg import solve_banded
 
 from ..errors import InfeasibleError, InputError
-from ..gait import GaitSequence, build_sequence, closing_footstep, footsteps_from_profile, stride_profile
-from ..gait import Footstep
+from ..gait import (Footstep, GaitSequence, build_sequence, closing_footstep, footsteps_from_profile,
+                    initial_feet, stride_profile)
 from ..models.tvlip import flight_state, support_state
 from ..stiffness import Stiffness, stiffness as solve_stiffness
 from ..swing import swing_path
@@ -351,7 +351,7 @@ def sequence_for(sc) -> tuple[GaitSequence, Stiffness]:
         strides = stride_profile(n, pr.max_stride, pr.accelerate_steps, pr.decelerate_steps)
         feet = footsteps_from_profile(n, first, strides, width, pr.yaw_rate, pr.step_height)
     else:
-        feet = [Footstep(0.0, width / 2, 0.0, 0.0, LEFT), Footstep(0.0, -width / 2, 0.0, 0.0, RIGHT)]
+        feet = initial_feet(width)
         side = first
         prev = feet[1 - first]
         for i, (x, y, z, yaw) in enumerate(sc.footsteps):
