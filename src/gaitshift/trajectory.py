@@ -178,7 +178,7 @@ class Trajectory:
         buf.write("# meta: " + json.dumps(self.meta) + "\n")
         buf.write("# footsteps: " + json.dumps(self.footsteps.tolist()) + "\n")
         buf.write("# footstep_side: " + json.dumps(self.footstep_side.tolist()) + "\n")
-        cols, blocks = [], []
+        cols, blocks, shapes = [], [], {}
         for key, arr in self.arrays().items():
             if key in ("footsteps", "footstep_side") or len(arr) != len(self.t):
                 continue
@@ -187,9 +187,8 @@ class Trajectory:
                 f"{key}[{'.'.join(map(str, idx))}]" for idx in np.ndindex(*arr.shape[1:])]
             cols += names
             blocks.append(flat)
-        buf.write("# shapes: " + json.dumps({k: list(np.shape(v)[1:]) for k, v in self.arrays().items()
-                                               if k not in ("footsteps", "footstep_side")
-                                               and len(v) == len(self.t)}) + "\n")
+            shapes[key] = list(arr.shape[1:])
+        buf.write("# shapes: " + json.dumps(shapes) + "\n")
         buf.write(",".join(cols) + "\n")
         body = _io.StringIO()
         np.savetxt(body, np.hstack(blocks), fmt="%.17g", delimiter=",")
