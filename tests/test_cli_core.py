@@ -108,8 +108,6 @@ def test_bench_quick_writes_median_p99_and_baseline_ratios(tmp_path, capsys):
 
 
 def test_check_passes_a_plan_and_fails_a_corrupted_one(tmp_path, capsys):
-    import numpy as np
-
     import gaitshift
     from gaitshift.trajectory import Trajectory
 

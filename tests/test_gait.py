@@ -1,7 +1,5 @@
 """Gait sequences: phase layout and stiffness assignment close the vertical motion (paper 001 Fig. 2)."""
 
-import math
-
 import numpy as np
 import pytest
 

@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 import gaitshift
-from gaitshift.trajectory import Trajectory
 
 import physics
 
@@ -72,7 +71,7 @@ def test_running_segments_have_real_flight(planned):
 
 def test_running_touchdown_and_takeoff_heights_equal_h(planned):
     sc, d = planned
-    bt, bp = d["boundary_t"], d["boundary_com_pos"]
+    bp = d["boundary_com_pos"]
     kinds = d["phase_kind"]
     fl = np.flatnonzero(kinds == physics.F)
     # at both ends of every flight the CoM is at the nominal height above the flat ground
@@ -141,13 +140,14 @@ def test_banded_solution_equals_a_dense_kkt_solve():
     M = np.column_stack([propagate(np.eye(K + 1)[j]) - base for j in range(K + 1)])
     goal = tr.footsteps[-2:, 0].mean()
     r = np.array([goal, 0.0]) - base
-    ref = np.empty(K + 1)
-    fs, on_first = tr.footsteps, None
-    # reference = the same box origins the planner uses (sole or mid-feet), recomputed from the ZMP box
-    ref[:] = e["boundary_zmp"][:, 0]  # start from the planner's answer only to pick the box origins:
-    # origins are sole centres or mid-feet; snap to the nearest such point
-    cand = np.r_[fs[:, 0], [(fs[i, 0] + fs[j, 0]) / 2 for i in range(len(fs)) for j in range(len(fs))]]
-    ref = cand[np.argmin(np.abs(ref[:, None] - cand[None, :]), axis=1)]
+    # regularisation targets (eq. (7) box origins), from the file's contacts and feet: the sole of an
+    # adjacent single support, else the mid-point of both soles
+    def foot_x_mid_phase(k):
+        i = int(np.searchsorted(tr.t, (bt[k] + bt[k + 1]) / 2))
+        return tr.foot_pos[i, tr.contact[i], 0].mean()
+    ref = np.array([foot_x_mid_phase(k) for k in
+                    [next((j for j in (b - 1, b) if 0 <= j < K and kinds[j] == 1), min(b, K - 1))
+                     for b in range(K + 1)]])
     KKT = np.block([[np.eye(K + 1), M.T], [M, np.zeros((2, 2))]])
     sol = np.linalg.solve(KKT, np.r_[ref, r])
     np.testing.assert_allclose(sol[:K + 1], e["boundary_zmp"][:, 0], atol=1e-9)

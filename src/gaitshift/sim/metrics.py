@@ -64,7 +64,6 @@ def summarize(result: Any, traj: Trajectory, plant: Any) -> dict[str, Any]:
     out["steps_completed"] = int(np.sum(traj.t[land] <= t_end))
 
     # flight
-    dtp = traj.dt
     flights = _runs(traj.phase == FLIGHT)
     meas_air = ~np.any(a["contact"], axis=1)
     tt = a["t"]
