@@ -429,12 +429,15 @@ class OnlineGenerator:
         self._plan_run()
         self._next_plan = n
 
-    def _plan_run(self) -> None:
-        k = len(self._stance_sides)
-        side = self._side(k)
+    def _planning_state(self) -> tuple[int, int, np.ndarray, np.ndarray]:
+        """At a planning instant: (side of the next stance, index a of the last planned sample,
+        CoM at a (copy), take-off velocity target of the step being flown)."""
+        side = self._side(len(self._stance_sides))
         a = self._buf.n - 1
-        c_prev = self._buf.c[a].copy()
-        v_prev = self._last_target
+        return side, a, self._buf.c[a].copy(), self._last_target
+
+    def _plan_run(self) -> None:
+        side, a, c_prev, v_prev = self._planning_state()
         p_prev = self._stance_feet[-1]
         cmd = np.zeros(2) if self._stop_requested else self._cmd
         target = self._clamp_target(cmd, side, c_prev, v_prev, p_prev)
@@ -481,11 +484,7 @@ class OnlineGenerator:
             self._last_cmd_target, self._last_target = target, v1
 
     def _plan_stop(self) -> None:
-        k = len(self._stance_sides)
-        side = self._side(k)
-        a = self._buf.n - 1
-        c_prev = self._buf.c[a].copy()
-        v_prev = self._last_target
+        side, a, c_prev, v_prev = self._planning_state()
         sgn = 1.0 if side == LEFT else -1.0           # A on the left: B is to the right (-y)
         offset = np.array([0.0, -sgn * self.width])
         lo = np.array([-self._half[0], min(0.0, offset[1]) - self._half[1]])
