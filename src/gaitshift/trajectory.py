@@ -60,6 +60,15 @@ CONTRACT_KEYS = tuple(k for k, _, _ in SAMPLE_KEYS) + ("footsteps", "footstep_si
 SUFFIXES = (".npz", ".csv", ".json")
 
 
+def check_suffix(path: str | Path, field: str) -> str:
+    """The lower-case suffix of ``path``; raise :class:`InputError` naming ``field`` unless it is one
+    of :data:`SUFFIXES`."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in SUFFIXES:
+        raise InputError(field, str(path), "a file ending in " + ", ".join(SUFFIXES))
+    return suffix
+
+
 @dataclass(frozen=True)
 class Trajectory:
     """Sampled CoM, ZMP and foot trajectories with their footsteps (see module docstring)."""
@@ -125,9 +134,7 @@ class Trajectory:
     def save(self, path: str | Path) -> Path:
         """Write the trajectory to ``path`` (.npz, .csv or .json by suffix), atomically."""
         path = Path(path)
-        suffix = path.suffix.lower()
-        if suffix not in SUFFIXES:
-            raise InputError("out", str(path), "a file ending in " + ", ".join(SUFFIXES))
+        suffix = check_suffix(path, "out")
         with atomic_path(path) as tmp:
             if suffix == ".npz":
                 np.savez_compressed(tmp, **self.arrays(), meta=np.array(json.dumps(self.meta)))
@@ -141,9 +148,7 @@ class Trajectory:
     def load(cls, path: str | Path) -> "Trajectory":
         """Read a file written by :meth:`save`."""
         path = Path(path)
-        suffix = path.suffix.lower()
-        if suffix not in SUFFIXES:
-            raise InputError("file", str(path), "a file ending in " + ", ".join(SUFFIXES))
+        suffix = check_suffix(path, "file")
         if not path.is_file():
             raise InputError("file", str(path), "an existing trajectory file")
         if suffix == ".npz":

@@ -7,9 +7,8 @@ from pathlib import Path
 
 import typer
 
-from ..errors import InputError
 from ..scenario import builtin_names, load_scenario
-from ..trajectory import SUFFIXES, Trajectory
+from ..trajectory import Trajectory, check_suffix
 from .app import app
 
 
@@ -42,11 +41,6 @@ def scenarios_cmd() -> None:
         typer.echo(f"{name:36s} [{sc.planner}] {sc.description}")
 
 
-def _check_out(out: Path, suffixes=SUFFIXES) -> None:
-    if out.suffix.lower() not in suffixes:
-        raise InputError("--out", str(out), "a file ending in " + ", ".join(suffixes))
-
-
 @app.command("plan")
 def plan_cmd(
     scenario: str = typer.Argument(..., help="Built-in scenario name or YAML path."),
@@ -55,7 +49,7 @@ def plan_cmd(
     """Plan a scenario and write the trajectory file."""
     from .. import plan
 
-    _check_out(out)
+    check_suffix(out, "--out")  # before planning: fail fast, write nothing
     sc = load_scenario(scenario)
     traj = plan(sc)
     traj.save(out)

@@ -25,7 +25,7 @@ import typer
 from ..errors import InfeasibleError, InputError
 from ..planners.online import OnlineGenerator
 from ..scenario import load_scenario
-from ..trajectory import SUFFIXES
+from ..trajectory import check_suffix
 from .app import app
 
 #: command change per arrow key press, m/s
@@ -150,8 +150,7 @@ def teleop_cmd(
     """Interactive running (paper 003): arrow keys change the speed command by 0.3 m/s (up/down forward,
     left/right lateral), space stops, q quits; shows the planned speed and step count; writes the run
     (stopped at rest) on exit. Without a terminal, key tokens come from --script or stdin."""
-    if out.suffix.lower() not in SUFFIXES:
-        raise InputError("--out", str(out), "a file ending in " + ", ".join(SUFFIXES))
+    check_suffix(out, "--out")
     if not (math.isfinite(max_time) and max_time > 0):
         raise InputError("--max-time", max_time, "a finite number of seconds > 0")
     sc = load_scenario(scenario)
