@@ -5,8 +5,9 @@
     .venv/bin/python benchmarks/profile_ops.py slip -n 20
 
 Operations: ``stiffness`` (one T_r solve, repeated), ``sweep`` (Fig. 7 grid of 900 T_r), ``plan``
-(TV-LIPM plan of the built-in 20-step walk-run-walk scenario, sampled at 1 ms), ``boundaries2000``
-(the planner's boundary solve alone for 2000 steps), ``slip`` (periodic 3D-SLIP search).
+(TV-LIPM plan of the built-in 20-step walk-run-walk scenario, sampled at 1 ms), ``solve`` and
+``sample`` (its boundary solve and its sampling alone), ``boundaries2000`` (the planner's boundary
+solve alone for 2000 steps), ``slip`` (periodic 3D-SLIP search).
 Each profile prints the wall time per call without the profiler first (cProfile slows Python-heavy
 code down by up to about 2x), then the functions sorted by their own time (tottime).
 """
@@ -24,7 +25,7 @@ import numpy as np
 
 def _ops():
     from gaitshift.models.slip import periodic_half_cycle
-    from gaitshift.stiffness import solve_running, sweep_running
+    from gaitshift.models.stiffness import solve_running, sweep_running
 
     grid = np.round(np.arange(0.10, 0.395, 0.01), 2)
     S, F = np.meshgrid(grid, grid, indexing="ij")
@@ -33,21 +34,24 @@ def _ops():
         "sweep": (lambda: sweep_running(0.95, S, F), 20),
         "slip": (lambda: periodic_half_cycle(3.5), 5),
     }
-    try:
-        import gaitshift
-        from gaitshift.planners.tvlip import plan_scenario
+    import gaitshift
+    from gaitshift.bench.tvlip import wrw_scenario
+    from gaitshift.planners.tvlip.planner import plan_scenario, sequence_for, solve_boundaries
+    from gaitshift.planners.tvlip.sampling import sample
 
-        sc = gaitshift.load_scenario("paper001-table2-walk-run-walk")
-        ops["plan"] = (lambda: plan_scenario(sc), 20)
-        from gaitshift.bench.tvlip import _wrw
-        from gaitshift.planners.tvlip import sequence_for, solve_boundaries
-
-        big = _wrw((500, 1000, 500))
-        seq, _ = sequence_for(big)
-        ops["boundaries2000"] = (lambda: solve_boundaries(seq, big.height, big.gravity, big.foot.size,
-                                                          big.foot.zmp_margin, big.foot.zmp_z), 5)
-    except Exception as exc:  # the planner is another topic; profile what exists
-        print(f"(plan skipped: {exc})")
+    sc = gaitshift.load_scenario("paper001-table2-walk-run-walk")
+    ops["plan"] = (lambda: plan_scenario(sc), 20)
+    seq20, _ = sequence_for(sc)
+    args = (sc.height, sc.gravity, sc.foot.size, sc.foot.zmp_margin, sc.foot.zmp_z)
+    bp20 = solve_boundaries(seq20, *args)
+    ops["solve"] = (lambda: solve_boundaries(seq20, *args), 100)
+    ops["sample"] = (lambda: sample(seq20, bp20, sc.gravity, sc.dt, sc.swing_height), 100)
+    big = wrw_scenario((500, 1000, 500))
+    seq, _ = sequence_for(big)
+    ops["boundaries2000"] = (
+        lambda: solve_boundaries(seq, big.height, big.gravity, big.foot.size, big.foot.zmp_margin, big.foot.zmp_z),
+        5,
+    )
     return ops
 
 

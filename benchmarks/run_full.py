@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 
 from gaitshift import bench
-from gaitshift.io import atomic_path
+from gaitshift.common.atomic import atomic_path
 
 HERE = Path(__file__).resolve().parent
 
@@ -34,8 +34,9 @@ def main(argv: list[str] | None = None) -> int:
 
     print(bench.machine_line(), flush=True)
     t0 = time.perf_counter()
-    results = bench.run(quick=args.quick, only=args.only,
-                        progress=lambda n: print(f"  running {n} ...", file=sys.stderr, flush=True))
+    results = bench.run(
+        quick=args.quick, only=args.only, progress=lambda n: print(f"  running {n} ...", file=sys.stderr, flush=True)
+    )
     wall = time.perf_counter() - t0
     print(bench.format_table(results))
     print(f"total wall time {wall:.1f} s")
@@ -46,8 +47,9 @@ def main(argv: list[str] | None = None) -> int:
         tmp.write_text(json.dumps(data, indent=2, allow_nan=False))
     md = args.out.with_suffix(".md")
     with atomic_path(md) as tmp:
-        tmp.write_text(bench.machine_line(data["machine"]) + f", total {wall:.1f} s\n\n"
-                       + bench.format_markdown(results) + "\n")
+        tmp.write_text(
+            bench.machine_line(data["machine"]) + f", total {wall:.1f} s\n\n" + bench.format_markdown(results) + "\n"
+        )
     print(f"wrote {args.out} and {md}")
     return 0
 

@@ -1,6 +1,12 @@
-"""Measure the G1's closed-loop limits in MuJoCo (issue 5): largest lateral push and top speed.
+"""Measure the G1's closed-loop limits in MuJoCo (issues 5, 17): largest lateral push, top speed, and
+the sensing targets, each with the estimated and the oracle state side by side.
 
     .venv/bin/python benchmarks/sim_limits.py [--pushes 10 11 12 13 14 15] [--strides 0.50 0.55 0.60]
+        [--states estimated oracle] [--sensing] [--only-sensing]
+
+``--sensing`` adds the rows of issue 17 (docs/estimation.md): every shipped G1 scenario at default
+settings; the estimation errors on g1-walk-run-walk; floor friction 0.35 with the controller not told;
+a 4-tick latency (with and without prediction); the largest ``rl-peer`` noise scale held, by bisection.
 
 * Push: ``g1-push-recovery`` with a lateral impulse (N s) at mid-stance of steps 4 (+y) and 8 (-y);
   the largest impulse survived without a fall is reported.
@@ -22,65 +28,146 @@ import numpy as np
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-import gaitshift  # noqa: E402
-from gaitshift.scenario import builtin_text, load_scenario  # noqa: E402
-from gaitshift.sim.loop import SimOptions, mid_stance_pushes, simulate  # noqa: E402
+import yaml
 
-import yaml  # noqa: E402
+import gaitshift
+from gaitshift.api import robot_facts
+from gaitshift.control.drivers import driver_for
+from gaitshift.scenario.loader import builtin_names, builtin_text, load_scenario
+from gaitshift.sim.loop import SimOptions, simulate
+from gaitshift.sim.pushes import mid_stance_pushes
 
 
-def push_sweep(impulses):
+def push_sweep(impulses, state="oracle"):
     traj = gaitshift.plan(load_scenario("g1-push-recovery"))
     rows = []
     for j in impulses:
         t0 = time.perf_counter()
-        res = simulate(traj, SimOptions(pushes=mid_stance_pushes(traj, j)))
-        rows.append({"impulse_Ns": j, "fell": bool(res.fell), "fall_time": float(res.fall_time),
-                     "wall_s": time.perf_counter() - t0})
-        print(f"push {j:5.1f} N s: {'FELL at %.2f s' % res.fall_time if res.fell else 'survived'}", flush=True)
+        res = simulate(traj, SimOptions(pushes=mid_stance_pushes(traj, j), state=state))
+        rows.append(
+            {
+                "impulse_Ns": j,
+                "fell": bool(res.fell),
+                "fall_time": float(res.fall_time),
+                "wall_s": time.perf_counter() - t0,
+            }
+        )
+        print(f"push {j:5.1f} N s: {f'FELL at {res.fall_time:.2f} s' if res.fell else 'survived'}", flush=True)
     ok = [r["impulse_Ns"] for r in rows if not r["fell"]]
     return rows, (max(ok) if ok else None)
 
 
-def speed_sweep(strides):
+def speed_sweep(strides, state="oracle"):
     base = yaml.safe_load(builtin_text("g1-top-speed"))
     rows = []
     for s in strides:
         data = dict(base, profile=dict(base["profile"], max_stride=s), name=f"g1-top-speed-{s}")
         sc = load_scenario(data)
         traj = gaitshift.plan(sc)
-        res = simulate(traj)
+        res = simulate(traj, SimOptions(state=state))
         planned = s / (sc.timing.single_support + sc.timing.flight)
         # constant-stride steps: footholds whose stride equals the maximum
         fs = traj.footsteps[2:-1, 0]
         stride = np.diff(np.r_[0.0, fs])
         const = np.flatnonzero(np.isclose(stride, stride.max(), atol=1e-9))
         a = res.arrays
-        t_land = [traj.t[np.argmax(traj.contact[:, traj.footstep_side[2 + i]] &
-                                   (np.abs(traj.foot_pos[:, traj.footstep_side[2 + i], 0] - fs[i]) < 1e-9))]
-                  for i in (const[0], const[-1])]
+        t_land = [
+            traj.t[
+                np.argmax(
+                    traj.contact[:, traj.footstep_side[2 + i]]
+                    & (np.abs(traj.foot_pos[:, traj.footstep_side[2 + i], 0] - fs[i]) < 1e-9)
+                )
+            ]
+            for i in (const[0], const[-1])
+        ]
         m = (a["t"] >= t_land[0]) & (a["t"] <= t_land[1])
         measured = float(np.mean(a["com_vel"][m, 0])) if m.any() and not res.fell else float("nan")
-        rows.append({"stride_m": s, "planned_speed": planned, "fell": bool(res.fell),
-                     "fall_time": float(res.fall_time), "measured_mean_speed": measured})
-        print(f"stride {s:.2f} m ({planned:.2f} m/s planned): "
-              f"{'FELL at %.2f s' % res.fall_time if res.fell else 'held, measured %.2f m/s' % measured}", flush=True)
+        rows.append(
+            {
+                "stride_m": s,
+                "planned_speed": planned,
+                "fell": bool(res.fell),
+                "fall_time": float(res.fall_time),
+                "measured_mean_speed": measured,
+            }
+        )
+        print(
+            f"stride {s:.2f} m ({planned:.2f} m/s planned): "
+            f"{f'FELL at {res.fall_time:.2f} s' if res.fell else f'held, measured {measured:.2f} m/s'}",
+            flush=True,
+        )
     ok = [r["planned_speed"] for r in rows if not r["fell"]]
     return rows, (max(ok) if ok else None)
+
+
+def run(name, **kw):
+    """One closed-loop run of scenario ``name`` (re-planned if it is an online or locomotion plan)."""
+    sc = load_scenario(name)
+    drv = driver_for(sc, robot_facts(sc), 0.002)
+    res = simulate(drv.trajectory if drv else gaitshift.plan(sc), SimOptions(**kw), replanner=drv)
+    m = res.metrics
+    row = {"scenario": name, **kw, "fell": bool(res.fell), "fall_time": float(res.fall_time)}
+    row["estimation"] = m["estimation"]
+    e = m["estimation"]
+    how = f"FELL at {res.fall_time:.2f} s" if res.fell else "no fall"
+    print(
+        f"{name:28s} {kw}: {how}; vel {e['base_vel_rmse']:.3f} "
+        f"tilt {e['tilt_rmse']:.4f} yaw {e['yaw_drift']:.3f} drift/m {e['pos_drift_per_m'] or float('nan'):.4f} "
+        f"contact {e['contact_accuracy']:.3f} tick {e['tick_us']:.0f} us",
+        flush=True,
+    )
+    return row
+
+
+def noise_bisection(state, lo=0.0, hi=2.0, iters=4):
+    """Largest rl-peer scale held on g1-walk-run-walk (bisection in [lo, hi], ``iters`` halvings)."""
+    rows = []
+    if not run("g1-walk-run-walk", state=state, noise="rl-peer", noise_scale=hi)["fell"]:
+        return rows, hi
+    for _ in range(iters):
+        mid = 0.5 * (lo + hi)
+        r = run("g1-walk-run-walk", state=state, noise="rl-peer", noise_scale=mid)
+        rows.append(r)
+        lo, hi = (mid, hi) if not r["fell"] else (lo, mid)
+    return rows, lo
+
+
+def sensing_rows(states):
+    """The rows of issue 17's target table, per state source."""
+    out = {}
+    g1 = [n for n in builtin_names() if n.startswith("g1-")]
+    for state in states:
+        rows = {"scenarios": [run(n, state=state) for n in g1]}
+        rows["friction_0.35_not_told"] = run("g1-walk-run-walk", state=state, friction=0.35)
+        rows["latency_4"] = run("g1-walk-run-walk", state=state, latency=4)
+        rows["latency_4_no_prediction"] = run("g1-walk-run-walk", state=state, latency=4, predict_latency=False)
+        rows["latency_3_no_prediction"] = run("g1-walk-run-walk", state=state, latency=3, predict_latency=False)
+        rows["rl_peer"], rows["rl_peer_largest_scale_held"] = noise_bisection(state)
+        out[state] = rows
+    return out
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pushes", type=float, nargs="*", default=[10, 11, 12, 13, 14, 15])
     ap.add_argument("--strides", type=float, nargs="*", default=[0.50, 0.55, 0.60])
+    ap.add_argument("--states", nargs="*", default=["estimated", "oracle"])
+    ap.add_argument("--sensing", action="store_true", help="also measure issue 17's sensing rows")
+    ap.add_argument("--only-sensing", action="store_true", help="only issue 17's sensing rows")
     ap.add_argument("--out", type=Path, default=Path(__file__).with_name("sim_limits.json"))
     args = ap.parse_args()
-    push_rows, push_max = push_sweep(args.pushes)
-    speed_rows, top = speed_sweep(args.strides)
-    out = {"pushes": push_rows, "largest_push_survived_Ns": push_max,
-           "speeds": speed_rows, "top_speed_held_m_s": top}
-    args.out.write_text(json.dumps(out, indent=2))
-    print(f"largest push survived: {push_max} N s; top speed held for 10 steps: {top} m/s -> {args.out}")
+    out = {}
+    if not args.only_sensing:
+        for state in args.states:
+            push_rows, push_max = push_sweep(args.pushes, state)
+            speed_rows, top = speed_sweep(args.strides, state)
+            out[state] = {"pushes": push_rows, "largest_push_survived_Ns": push_max, "speeds": speed_rows}
+            out[state]["top_speed_held_m_s"] = top
+            print(f"{state}: largest push survived {push_max} N s; top speed held for 10 steps {top} m/s")
+    if args.sensing or args.only_sensing:
+        out["sensing"] = sensing_rows(args.states)
+    args.out.write_text(json.dumps(out, indent=2, default=str))
+    print(f"-> {args.out}")
 
 
 if __name__ == "__main__":

@@ -5,6 +5,8 @@ Each check takes plain arrays from a trajectory file and returns the worst error
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.spatial import ConvexHull
@@ -21,7 +23,7 @@ def segments(phase, t=None, boundary_t=None):
         change = np.unique(np.r_[change, extra[(extra > 0) & (extra < len(t))]])
     starts = np.r_[0, change]
     stops = np.r_[change, len(phase)]
-    return list(zip(starts, stops))
+    return list(zip(starts, stops, strict=True))
 
 
 def switches(d):
@@ -38,7 +40,7 @@ def interior(d, pad=2):
     phase = d["phase"]
     m = np.ones(len(phase), bool)
     for i in switches(d):
-        m[max(0, i - pad):i + pad] = False
+        m[max(0, i - pad) : i + pad] = False
     m[:pad] = m[-pad:] = False
     return m
 
@@ -68,8 +70,11 @@ def finite_difference_errors(d):
     vfd = (p[2:] - p[:-2]) / (2 * dt)
     afd = (v[2:] - v[:-2]) / (2 * dt)
     a2 = (p[2:] - 2 * p[1:-1] + p[:-2]) / dt**2
-    return (float(np.max(np.abs(vfd - v[1:-1])[m])), float(np.max(np.abs(afd - a[1:-1])[m])),
-            float(np.max(np.abs(a2 - a[1:-1])[m])))
+    return (
+        float(np.max(np.abs(vfd - v[1:-1])[m])),
+        float(np.max(np.abs(afd - a[1:-1])[m])),
+        float(np.max(np.abs(a2 - a[1:-1])[m])),
+    )
 
 
 def _segment_rhs(d, a, b, g):
@@ -95,12 +100,12 @@ def ode_errors(d, g):
     t, p, v = d["t"], d["com_pos"], d["com_vel"]
     segs = [(a, b) for a, b in segments(d["phase"], t, d.get("boundary_t")) if b - a >= 3]
     within, across = 0.0, 0.0
-    opts = dict(rtol=1e-11, atol=1e-12)
+    opts = {"rtol": 1e-11, "atol": 1e-12}
     for a, b in segs:
         sol = solve_ivp(_segment_rhs(d, a, b, g), (t[a], t[b - 1]), np.r_[p[a], v[a]], t_eval=t[a:b], **opts)
         within = max(within, float(np.max(np.abs(sol.y[:3].T - p[a:b]))))
     bt = d["boundary_t"]
-    for (a, b), (a2, b2) in zip(segs[:-1], segs[1:]):
+    for (a, b), (a2, b2) in itertools.pairwise(segs):
         if a2 != b:
             continue
         tb = bt[np.argmin(np.abs(bt - t[a2]))]  # the boundary time between the two phases

@@ -11,28 +11,23 @@ Public API::
 
 from __future__ import annotations
 
-from typing import Any
-
-from .errors import GaitshiftError, InfeasibleError, InputError, ScenarioError, StiffnessError
-from .scenario import builtin_names, load_scenario
-from .stiffness import Stiffness, stiffness
-from .trajectory import Trajectory
+from gaitshift.api import plan
+from gaitshift.errors import GaitshiftError, InfeasibleError, InputError, ScenarioError, StiffnessError
+from gaitshift.models.stiffness import Stiffness, stiffness
+from gaitshift.scenario import builtin_names, load_scenario
+from gaitshift.trajectory.contract import Trajectory
 
 __all__ = [
-    "GaitshiftError", "InfeasibleError", "InputError", "ScenarioError", "StiffnessError",
-    "Stiffness", "Trajectory", "builtin_names", "load_scenario", "plan", "stiffness",
+    "GaitshiftError",
+    "InfeasibleError",
+    "InputError",
+    "ScenarioError",
+    "Stiffness",
+    "StiffnessError",
+    "Trajectory",
+    "builtin_names",
+    "load_scenario",
+    "plan",
+    "stiffness",
 ]
 __version__ = "0.1.0"
-
-
-def plan(scenario: Any) -> Trajectory:
-    """Plan a scenario (object, built-in name or YAML path) with the planner it names."""
-    if not hasattr(scenario, "planner"):
-        scenario = load_scenario(scenario)
-    if scenario.planner == "tvlip":
-        from .planners.tvlip import plan_scenario
-    elif scenario.planner == "vhip":
-        from .planners.online import plan_scenario  # type: ignore[no-redef]
-    else:  # pragma: no cover - the schema admits no other value
-        raise InputError("planner", scenario.planner, "tvlip or vhip")
-    return plan_scenario(scenario)

@@ -32,6 +32,26 @@ class ScenarioError(InputError):
     """A scenario file or name is invalid (unknown key, wrong type, unknown built-in)."""
 
 
+class TrajectoryFileError(InputError):
+    """A trajectory (a file, or arrays handed to :class:`~gaitshift.trajectory.contract.Trajectory`)
+    breaks the trajectory contract.
+
+    Prints ``"<source>: <key> = <found> is invalid: allowed <allowed>"`` on one line.
+
+    Args:
+        source: the file path (or ``"Trajectory"`` for arrays built in memory).
+        key: the contract key or file part at fault, e.g. ``com_pos``, ``meta.gravity``, ``row 12``.
+        found: what was found, as text (a shape, a dtype, a value and where it is).
+        allowed: what the contract allows there.
+    """
+
+    def __init__(self, source: str, key: str, found: str, allowed: str):
+        super().__init__(f"{source}: {key}", found, allowed)
+        self.source = source
+        self.key = key
+        self.args = (f"{source}: {key} = {found} is invalid: allowed {allowed}",)
+
+
 class InfeasibleError(GaitshiftError):
     """The inputs are well-formed but no physical solution exists (e.g. no real stiffness root,
     ZMP cannot stay in the support polygon, a foot out of reach)."""

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 #: Topic modules, in table order.
-TOPICS = ("tvlip", "vhip", "robot", "sim", "slip")
+TOPICS = ("tvlip", "vhip", "locomotion", "robot", "sim", "slip")
 
 
 @dataclass(frozen=True)
@@ -37,6 +37,7 @@ class Result:
     baseline_median_s: float | None = None
     paper: str | None = None
     note: str = ""
+    baseline_p99_s: float | None = None
 
     @property
     def ratio(self) -> float | None:
@@ -76,17 +77,27 @@ def measure(fn: Callable[[], Any], repeats: int, warmup: int = 3) -> np.ndarray:
     return times
 
 
-def timed(operation: str, size: str, fn: Callable[[], Any], repeats: int, *, warmup: int = 3,
-          baseline: tuple[str, Callable[[], Any], int] | None = None, paper: str | None = None,
-          note: str = "") -> Result:
+def timed(
+    operation: str,
+    size: str,
+    fn: Callable[[], Any],
+    repeats: int,
+    *,
+    warmup: int = 3,
+    baseline: tuple[str, Callable[[], Any], int] | None = None,
+    paper: str | None = None,
+    note: str = "",
+) -> Result:
     """Measure ``fn`` (and optionally a baseline ``(name, fn, repeats)``) and build a :class:`Result`."""
     t = measure(fn, repeats, warmup)
-    b_name, b_med = None, None
+    b_name, b_med, b_p99 = None, None, None
     if baseline is not None:
         b_name, b_fn, b_rep = baseline
-        b_med = float(np.median(measure(b_fn, b_rep, warmup=1)))
-    return Result(operation, size, float(np.median(t)), float(np.percentile(t, 99)), repeats,
-                  b_name, b_med, paper, note)
+        bt = measure(b_fn, b_rep, warmup=1)
+        b_med, b_p99 = float(np.median(bt)), float(np.percentile(bt, 99))
+    return Result(
+        operation, size, float(np.median(t)), float(np.percentile(t, 99)), repeats, b_name, b_med, paper, note, b_p99
+    )
 
 
 def machine() -> dict[str, Any]:
@@ -107,10 +118,16 @@ def machine() -> dict[str, Any]:
         load = [round(x, 2) for x in os.getloadavg()]
     except OSError:  # pragma: no cover - not on every platform
         load = None
-    return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__, "scipy": scipy_version, "platform": platform.platform(),
-            "load_avg_1_5_15min": load,
-            "utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+    return {
+        "cpu": cpu,
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy_version,
+        "platform": platform.platform(),
+        "load_avg_1_5_15min": load,
+        "utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+    }
 
 
 def machine_line(m: dict[str, Any] | None = None) -> str:
@@ -118,20 +135,24 @@ def machine_line(m: dict[str, Any] | None = None) -> str:
     m = m or machine()
     load = m.get("load_avg_1_5_15min")
     extra = f", load {load[0]:.2f}" if load else ""
-    return (f"machine: {m['cpu']}, {m['cores']} cores, Python {m['python']}, numpy {m['numpy']}, "
-            f"scipy {m.get('scipy')}{extra}, {m.get('utc', '')}")
+    return (
+        f"machine: {m['cpu']}, {m['cores']} cores, Python {m['python']}, numpy {m['numpy']}, "
+        f"scipy {m.get('scipy')}{extra}, {m.get('utc', '')}"
+    )
 
 
-def run(quick: bool = False, only: list[str] | None = None,
-        progress: Callable[[str], None] | None = None) -> list[Result]:
-    """Run every registered benchmark (or those whose name contains one of ``only``)."""
+def names() -> list[str]:
+    """Names of every registered benchmark, in table order (imports the topic modules)."""
     for topic in TOPICS:
-        module = f"{__name__}.{topic}"
-        try:
-            importlib.import_module(module)
-        except ModuleNotFoundError as exc:
-            if exc.name != module:
-                raise
+        importlib.import_module(f"{__name__}.{topic}")
+    return [name for name, _ in _REGISTRY]
+
+
+def run(
+    quick: bool = False, only: list[str] | None = None, progress: Callable[[str], None] | None = None
+) -> list[Result]:
+    """Run every registered benchmark (or those whose name contains one of ``only``)."""
+    names()
     results: list[Result] = []
     for name, fn in _REGISTRY:
         if only and not any(o in name for o in only):
@@ -152,45 +173,60 @@ def _fmt_time(s: float | None) -> str:
     return f"{s:.2f} s"
 
 
+def _fmt_baseline(r: Result) -> str:
+    """``name (median)`` or ``name (median, p99 ...)`` of the baseline, ``-`` without one."""
+    if not r.baseline:
+        return "-"
+    p99 = f", p99 {_fmt_time(r.baseline_p99_s)}" if r.baseline_p99_s is not None else ""
+    return f"{r.baseline} ({_fmt_time(r.baseline_median_s)}{p99})"
+
+
 def format_table(results: list[Result]) -> str:
     """A plain-text table: operation, size, median, p99, baseline, ratio, paper."""
-    head = ("operation", "size", "median", "p99", "baseline (median)", "ratio", "paper", "note")
+    head = ("operation", "size", "median", "p99", "baseline (median, p99)", "ratio", "paper", "note")
     rows = [head]
     for r in results:
-        base = f"{r.baseline} ({_fmt_time(r.baseline_median_s)})" if r.baseline else "-"
+        base = _fmt_baseline(r)
         ratio = "-" if r.ratio is None else (f"{r.ratio:.0f}x" if r.ratio >= 100 else f"{r.ratio:.1f}x")
-        rows.append((r.operation, r.size, _fmt_time(r.median_s), _fmt_time(r.p99_s), base, ratio,
-                     r.paper or "-", r.note))
+        rows.append(
+            (r.operation, r.size, _fmt_time(r.median_s), _fmt_time(r.p99_s), base, ratio, r.paper or "-", r.note)
+        )
     widths = [max(len(str(row[i])) for row in rows) for i in range(len(head))]
-    lines = ["  ".join(str(c).ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
+    lines = ["  ".join(str(c).ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in rows]
     lines.insert(1, "  ".join("-" * w for w in widths))
     return "\n".join(lines)
 
 
 def format_markdown(results: list[Result]) -> str:
     """The same table as :func:`format_table` in Markdown (for docs/performance.md)."""
-    head = ("operation", "size", "median", "p99", "repeats", "baseline (median)", "ratio", "paper", "note")
+    head = ("operation", "size", "median", "p99", "repeats", "baseline (median, p99)", "ratio", "paper", "note")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in results:
-        base = f"{r.baseline} ({_fmt_time(r.baseline_median_s)})" if r.baseline else "-"
+        base = _fmt_baseline(r)
         ratio = "-" if r.ratio is None else (f"{r.ratio:.0f}x" if r.ratio >= 100 else f"{r.ratio:.1f}x")
-        cells = (r.operation, r.size, _fmt_time(r.median_s), _fmt_time(r.p99_s), str(r.repeats), base, ratio,
-                 r.paper or "-", r.note or "")
+        cells = (
+            r.operation,
+            r.size,
+            _fmt_time(r.median_s),
+            _fmt_time(r.p99_s),
+            str(r.repeats),
+            base,
+            ratio,
+            r.paper or "-",
+            r.note or "",
+        )
         lines.append("| " + " | ".join(str(c).replace("|", "/") for c in cells) + " |")
     return "\n".join(lines)
 
 
-def results_from_json(text: str) -> tuple[dict[str, Any], list[Result]]:
-    """Inverse of :func:`to_json`: ``(machine, results)``."""
-    data = json.loads(text)
-    fields = Result.__dataclass_fields__
-    return data["machine"], [Result(**{k: v for k, v in d.items() if k in fields}) for d in data["results"]]
-
-
 def to_json(results: list[Result], quick: bool) -> str:
     """The numbers as JSON: ``{"machine": ..., "quick": ..., "results": [Result.as_dict(), ...]}``."""
+
     def clean(d: dict[str, Any]) -> dict[str, Any]:  # never NaN in output files: a missing number is null
         return {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in d.items()}
 
-    return json.dumps({"machine": machine(), "quick": quick,
-                       "results": [clean(r.as_dict()) for r in results]}, indent=2, allow_nan=False)
+    return json.dumps(
+        {"machine": machine(), "quick": quick, "results": [clean(r.as_dict()) for r in results]},
+        indent=2,
+        allow_nan=False,
+    )

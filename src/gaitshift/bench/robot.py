@@ -2,17 +2,19 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
-from . import Result, benchmark, timed
+from gaitshift.bench import Result, benchmark, timed
 
 TARGET = "target: 10 s plan at 500 Hz in < 10 s"
 
 
-def _plan_10s(rate: float = 500.0):
+def _plan_10s(rate: float = 500.0) -> Any:
     import gaitshift
-    from ..robot.ik import subsample
-    from ..trajectory import Trajectory
+    from gaitshift.trajectory.contract import Trajectory
+    from gaitshift.wholebody.joints import subsample
 
     traj = subsample(gaitshift.plan(gaitshift.load_scenario("g1-walk-run-walk")), rate)
     keep = traj.t <= traj.t[0] + 10.0 - 0.5 / rate
@@ -23,7 +25,7 @@ def _plan_10s(rate: float = 500.0):
 
 @benchmark("robot")
 def bench_robot(quick: bool) -> list[Result]:
-    from ..robot.ik import IKSettings, WholeBodyIK
+    from gaitshift.wholebody.ik import IKSettings, WholeBodyIK
 
     traj = _plan_10s()
     n = len(traj)
@@ -32,19 +34,37 @@ def bench_robot(quick: bool) -> list[Result]:
     # per sample: full passes, the two variants alternating so that machine load hits both alike;
     # the first sample of each pass (from the standing pose, up to 200 iterations) is excluded
     passes = 1 if quick else 3
-    st, it, cst, cit = [], [], [], []
+    runs: dict[str, list[np.ndarray]] = {"st": [], "it": [], "cst": [], "cit": []}
     for _ in range(passes):
         ik.solve(traj)
-        st.append(ik.last_sample_times[1:]), it.append(ik.last_iterations[1:])
+        runs["st"].append(ik.last_sample_times[1:])
+        runs["it"].append(ik.last_iterations[1:])
         cold.solve(traj)
-        cst.append(cold.last_sample_times[1:]), cit.append(cold.last_iterations[1:])
-    st, it, cst, cit = (np.concatenate(a) for a in (st, it, cst, cit))
-    rows = [Result("whole-body IK per sample (G1, mink+daqp)", f"{n} samples, 500 Hz",
-                   float(np.median(st)), float(np.percentile(st, 99)), len(st),
-                   "warm start at q_{k-1}, no extrapolation", float(np.median(cst)), None,
-                   f"iterations/sample mean {it.mean():.2f}, max {it.max()} "
-                   f"(baseline mean {cit.mean():.2f}, max {cit.max()})")]
+        runs["cst"].append(cold.last_sample_times[1:])
+        runs["cit"].append(cold.last_iterations[1:])
+    st, it, cst, cit = (np.concatenate(runs[k]) for k in ("st", "it", "cst", "cit"))
+    rows = [
+        Result(
+            "whole-body IK per sample (G1, mink+daqp)",
+            f"{n} samples, 500 Hz",
+            float(np.median(st)),
+            float(np.percentile(st, 99)),
+            len(st),
+            "warm start at q_{k-1}, no extrapolation",
+            float(np.median(cst)),
+            None,
+            f"iterations/sample mean {it.mean():.2f}, max {it.max()} (baseline mean {cit.mean():.2f}, max {cit.max()})",
+        )
+    ]
     repeats = 1 if quick else 3
-    rows.append(timed("whole-body motion, 10 s walk-run-walk plan (G1)", f"{n} samples, 500 Hz",
-                      lambda: ik.solve(traj), repeats, warmup=0, paper=TARGET))
+    rows.append(
+        timed(
+            "whole-body motion, 10 s walk-run-walk plan (G1)",
+            f"{n} samples, 500 Hz",
+            lambda: ik.solve(traj),
+            repeats,
+            warmup=0,
+            paper=TARGET,
+        )
+    )
     return rows

@@ -6,15 +6,18 @@ issue 5). Baseline: the bare physics step ``mj_step`` of the same model (what th
 
 from __future__ import annotations
 
-from ..bench import Result, benchmark, timed
+from collections.abc import Callable
+from typing import Any
+
+from gaitshift.bench import Result, benchmark, timed
 
 
-def _tick_fns():
+def _tick_fns() -> tuple[Callable[[], None], Callable[[], None], Callable[[], None], float]:
     import mujoco
     import numpy as np
 
-    from ..sim.controller import TickReference, WholeBodyController
-    from ..sim.plant import build_plant, standing_qpos
+    from gaitshift.control.wbc import TickReference, WholeBodyController
+    from gaitshift.sim.plant import build_plant, standing_qpos
 
     plant = build_plant(0.002)
     m = plant.model
@@ -25,23 +28,22 @@ def _tick_fns():
     ctrl = WholeBodyController(plant, q0)
     feet = np.array([plant.sole_frame(d, s)[0] for s in (0, 1)])
     com = d.subtree_com[0].copy()
-    ref = TickReference(com, np.zeros(3), np.zeros(3), np.array([True, True]), np.full(2, 1e4), feet,
-                        np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2))
-    ref_ss = TickReference(com, np.zeros(3), np.zeros(3), np.array([True, False]), np.full(2, 1e4),
-                           feet + [[0, 0, 0], [0, 0, 0.02]], np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2))
+    ref = TickReference.still(com, feet)
+    ref_ss = TickReference.still(com, feet + np.array([[0, 0, 0], [0, 0, 0.02]]), stance=(True, False))
     d2 = mujoco.MjData(m)
     d2.qpos[:] = q0
 
-    def tick(r):
-        def f():
+    def tick(r: Any) -> Callable[[], None]:
+        def f() -> None:
             mujoco.mj_forward(m, d)
             mujoco.mj_subtreeVel(m, d)
             tau, _ = ctrl.compute(d, r)
             d.ctrl[:] = tau
             mujoco.mj_step(m, d)
+
         return f
 
-    def physics():
+    def physics() -> None:
         mujoco.mj_step(m, d2)
 
     return tick(ref), tick(ref_ss), physics, plant.dt
@@ -53,7 +55,6 @@ def bench_sim(quick: bool) -> list[Result]:
     n = 20 if quick else 1000
     out = []
     for name, fn in (("double support", ds), ("single support", ss)):
-        r = timed("G1 control tick (QP + mj_step)", name, fn, n, baseline=("mj_step only", physics, n),
-                  paper="-")
+        r = timed("G1 control tick (QP + mj_step)", name, fn, n, baseline=("mj_step only", physics, n), paper="-")
         out.append(Result(**{**r.__dict__, "note": f"real-time factor {dt / r.median_s:.2f} at {dt * 1e3:.0f} ms"}))
     return out

@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..models.slip import SlipParams, periodic_half_cycle, simulate_half_cycle
-from ..slip_compare import tvlip_half_cycle
-from ..stiffness import solve_running
-from . import Result, benchmark, timed
+from gaitshift.analysis.slip_compare import tvlip_half_cycle
+from gaitshift.bench import Result, benchmark, timed
+from gaitshift.models.slip import SlipParams, periodic_half_cycle, simulate_half_cycle
+from gaitshift.models.stiffness import solve_running
 
 SPEED = 3.5
 
@@ -32,19 +32,19 @@ def bench_slip(quick: bool) -> list[Result]:
     T_r = float(solve_running(h, tss, tf, g)[0])
     t = np.linspace(0.0, hc.t_end, 401)
 
-    def slip_search():
+    def slip_search() -> object:
         return periodic_half_cycle(SPEED, params=p)
 
-    def slip_once():
+    def slip_once() -> object:
         return simulate_half_cycle(p, hc.state0, hc.theta, hc.phi, dense=True)
 
-    def tr_solve():
+    def tr_solve() -> object:
         return solve_running(h, tss, tf, g)
 
-    def tv_curve():
+    def tv_curve() -> object:
         return tvlip_half_cycle(hc.state0[:3], hc.state0[3:], hc.foot, hc.t_touchdown, hc.t_liftoff, T_r, t, g)
 
-    def tv_full():
+    def tv_full() -> object:
         T = float(solve_running(h, tss, tf, g)[0])
         return tvlip_half_cycle(hc.state0[:3], hc.state0[3:], hc.foot, hc.t_touchdown, hc.t_liftoff, T, t, g)
 
@@ -52,12 +52,30 @@ def bench_slip(quick: bool) -> list[Result]:
     size = f"{SPEED} m/s half cycle"
     note = f"SLIP: {gait.iterations} LM iterations, {gait.integrations} integrations"
     return [
-        timed("T_r solve (eqs. 9-11)", size, tr_solve, n_fast,
-              baseline=("SLIP optimise+integrate", slip_search, n_slip),
-              paper="8 ms vs 24.9 s (3112x)", note=note),
-        timed("TV-LIPM half cycle (T_r + 401 samples)", size, tv_full, n_fast,
-              baseline=("SLIP optimise+integrate", slip_search, n_slip), paper="-"),
-        timed("TV-LIPM closed form (401 samples)", size, tv_curve, n_fast,
-              baseline=("SLIP one integration", slip_once, max(n_slip, 3 if quick else 30)), paper="-",
-              note="no search on either side"),
+        timed(
+            "T_r solve (eqs. 9-11)",
+            size,
+            tr_solve,
+            n_fast,
+            baseline=("SLIP optimise+integrate", slip_search, n_slip),
+            paper="8 ms vs 24.9 s (3112x)",
+            note=note,
+        ),
+        timed(
+            "TV-LIPM half cycle (T_r + 401 samples)",
+            size,
+            tv_full,
+            n_fast,
+            baseline=("SLIP optimise+integrate", slip_search, n_slip),
+            paper="-",
+        ),
+        timed(
+            "TV-LIPM closed form (401 samples)",
+            size,
+            tv_curve,
+            n_fast,
+            baseline=("SLIP one integration", slip_once, max(n_slip, 3 if quick else 30)),
+            paper="-",
+            note="no search on either side",
+        ),
     ]

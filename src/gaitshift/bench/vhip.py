@@ -14,22 +14,62 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import Result, benchmark, timed
-from ..models.vhip import (Horizon, solve_banded_tridiagonal, solve_tridiagonal, thomas,
-                           tridiagonal_system)
-from ..planners.foothold import target_foothold
-from ..planners.online import OnlineGenerator
-from ..planners.switching import SwitchingProblem, solve_switching_ipopt, stop_problem
-from ..scenario import load_scenario
+from gaitshift.bench import Result, benchmark, timed
+from gaitshift.models.tridiagonal import (
+    Horizon,
+    solve_banded_tridiagonal,
+    solve_tridiagonal,
+    thomas,
+    tridiagonal_system,
+)
+from gaitshift.planners.online.foothold import target_foothold
+from gaitshift.planners.online.generator import OnlineGenerator
+from gaitshift.planners.online.switching import SwitchingProblem, SwitchingSolver, stop_problem
+from gaitshift.planners.online.switching_ipopt import solve_switching_ipopt
+from gaitshift.scenario import load_scenario
+from gaitshift.scenario.vhip import VhipScenario
 
 SCENARIO = "paper003-variable-speed"
 
 
 def _generator(dt: float | None = None) -> OnlineGenerator:
-    sc = load_scenario(SCENARIO)
+    sc: VhipScenario = load_scenario(SCENARIO)
     if dt is not None:
         sc = sc.model_copy(update={"dt": dt})
     return OnlineGenerator(sc)
+
+
+def _solver_rows(label: str, w: np.ndarray, dt: float, reps: int, rhs: np.ndarray) -> list[Result]:
+    """Three eq. (13) solvers on the weights ``w`` against our Thomas loop."""
+    lo, di, up = tridiagonal_system(w)
+    h = Horizon(w, dt)
+    size = f"n={len(w)}"
+    base = ("thomas (ours, Python)", lambda: thomas(lo, di, up, rhs), max(5, reps // (20 if len(w) > 1000 else 4)))
+    return [
+        timed(
+            f"eq. (13) solve: LAPACK gtsv (default) [{label}]",
+            size,
+            lambda: solve_tridiagonal(lo, di, up, rhs),
+            reps,
+            baseline=base,
+            paper="O(n) Thomas [27]",
+        ),
+        timed(
+            f"eq. (13) solve: scipy solve_banded [{label}]",
+            size,
+            lambda: solve_banded_tridiagonal(lo, di, up, rhs),
+            reps,
+            baseline=base,
+        ),
+        timed(
+            f"eq. (13) solve: prefactorised gttrs [{label}]",
+            size,
+            lambda: h.solve_rhs(rhs),
+            reps,
+            baseline=base,
+            note="the generator factorises the running step once",
+        ),
+    ]
 
 
 @benchmark("vhip.horizontal")
@@ -38,21 +78,9 @@ def bench_horizontal(quick: bool) -> list[Result]:
     rng = np.random.default_rng(0)
     out = []
     reps = 20 if quick else 2000
-    for label, w in (("one step", gen._run_w),
-                     ("16 s run", np.tile(gen._run_w[:-1], 40))):
-        lo, di, up = tridiagonal_system(w)
-        rhs = rng.normal(size=len(w))
-        h = Horizon(w, gen.dt)
-        size = f"n={len(w)}"
-        base = ("thomas (ours, Python)", lambda: thomas(lo, di, up, rhs), max(5, reps // (20 if len(w) > 1000 else 4)))
-        out.append(timed(f"eq. (13) solve: LAPACK gtsv (default) [{label}]", size,
-                         lambda: solve_tridiagonal(lo, di, up, rhs), reps, baseline=base,
-                         paper="O(n) Thomas [27]"))
-        out.append(timed(f"eq. (13) solve: scipy solve_banded [{label}]", size,
-                         lambda: solve_banded_tridiagonal(lo, di, up, rhs), reps, baseline=base))
-        out.append(timed(f"eq. (13) solve: prefactorised gttrs [{label}]", size,
-                         lambda: h.solve_rhs(rhs), reps, baseline=base,
-                         note="the generator factorises the running step once"))
+    run_w = gen.horizons.run_w
+    for label, w in (("one step", run_w), ("16 s run", np.tile(run_w[:-1], 40))):
+        out += _solver_rows(label, w, gen.dt, reps, rng.normal(size=len(w)))
     return out
 
 
@@ -67,22 +95,78 @@ class _ThomasHorizon:
         return thomas(*self.bands, r)
 
 
+def _foothold_row(dt: float, reps: int) -> Result:
+    """One Algorithm 1 computation at sample step ``dt`` against a Thomas solve per iteration."""
+    gen = _generator(dt)
+    c_prev, v_prev = np.array([0.0, 0.03]), np.array([0.6, -0.2])
+    v_cmd, p_nom = np.array([0.9, 0.2]), np.array([0.3, -0.1])
+    h = gen.horizons
+    res = target_foothold(h.run_horizon, c_prev, v_prev, v_cmd, p_nom)
+    naive = _ThomasHorizon(h.run_w, dt)
+    return timed(
+        "foothold (Algorithm 1, tol 1e-6)",
+        f"dt={dt * 1e3:g} ms, n={gen.n_step + 1}",
+        lambda: target_foothold(h.run_horizon, c_prev, v_prev, v_cmd, p_nom),
+        reps,
+        baseline=(
+            "same loop, Thomas solve per iteration",
+            lambda: target_foothold(naive, c_prev, v_prev, v_cmd, p_nom),
+            max(5, reps // 50),
+        ),
+        paper="< 1 ms",
+        note=f"{int(res.iterations.max())} iteration(s); goal <= 0.1 ms",
+    )
+
+
 @benchmark("vhip.foothold")
 def bench_foothold(quick: bool) -> list[Result]:
-    out = []
     reps = 50 if quick else 5000
-    for dt in (0.004, 0.001):
-        gen = _generator(dt)
-        c_prev, v_prev = np.array([0.0, 0.03]), np.array([0.6, -0.2])
-        v_cmd, p_nom = np.array([0.9, 0.2]), np.array([0.3, -0.1])
-        res = target_foothold(gen._run_h, c_prev, v_prev, v_cmd, p_nom)
-        naive = _ThomasHorizon(gen._run_w, dt)
-        out.append(timed("foothold (Algorithm 1, tol 1e-6)", f"dt={dt * 1e3:g} ms, n={gen.n_step + 1}",
-                         lambda: target_foothold(gen._run_h, c_prev, v_prev, v_cmd, p_nom), reps,
-                         baseline=("same loop, Thomas solve per iteration",
-                                   lambda: target_foothold(naive, c_prev, v_prev, v_cmd, p_nom), max(5, reps // 50)),
-                         paper="< 1 ms", note=f"{int(res.iterations.max())} iteration(s); goal <= 0.1 ms"))
-    return out
+    return [_foothold_row(dt, reps) for dt in (0.004, 0.001)]
+
+
+def _switching_problems(gen: OnlineGenerator) -> tuple[SwitchingProblem, SwitchingProblem]:
+    """A start to (0.3, u) m/s and a stop from (0, u) m/s on the horizons of ``gen``."""
+    h, dt, width = gen.horizons, gen.dt, gen.width
+    half = h.zmp_half
+    start = SwitchingProblem(
+        h.start_w,
+        gen.n_start,
+        dt,
+        np.zeros(2),
+        np.array([0.0, 0.5 * width]),
+        np.zeros(2),
+        np.array([0.3, gen.u_left]),
+        np.array([-half[0], -0.5 * width - half[1]]),
+        np.array([half[0], 0.5 * width + half[1]]),
+    )
+    stop = stop_problem(
+        h.stop_w,
+        gen.n_stop,
+        dt,
+        np.array([0.0, gen.u_left]),
+        np.array([0.0, -width]),
+        np.array([-half[0], -width - half[1]]),
+        np.array([half[0], half[1]]),
+    )
+    return start, stop
+
+
+def _switching_row(
+    name: str, prob: SwitchingProblem, solver: SwitchingSolver, size: str, reps: int, ip_reps: int
+) -> Result:
+    """Our solver of one start/stop problem against IPOPT on the same problem."""
+    solve_switching_ipopt(prob)  # build the casadi solver outside the timing, like ours
+    ours = solver.solve(prob)
+    ref = solve_switching_ipopt(prob)
+    return timed(
+        f"{name} NLP (16) + smoothness: ours",
+        size,
+        lambda: solver.solve(prob),
+        reps,
+        baseline=("IPOPT (casadi)", lambda: solve_switching_ipopt(prob), ip_reps),
+        paper="< 4 ms (IPOPT)",
+        note=f"J ours {ours.J.sum():.6g} vs IPOPT {ref.J.sum():.6g}; goal <= 1 ms",
+    )
 
 
 @benchmark("vhip.switching")
@@ -92,22 +176,11 @@ def bench_switching(quick: bool) -> list[Result]:
     ip_reps = 3 if quick else 40
     for dt in (0.004, 0.001):
         gen = _generator(dt)
-        half = gen._half
-        start = SwitchingProblem(gen._start_w, gen.n_start, dt, np.zeros(2), np.array([0.0, 0.5 * gen.width]),
-                                 np.zeros(2), np.array([0.3, gen.u_left]),
-                                 np.array([-half[0], -0.5 * gen.width - half[1]]),
-                                 np.array([half[0], 0.5 * gen.width + half[1]]))
-        stop = stop_problem(gen._stop_w, gen.n_stop, dt, np.array([0.0, gen.u_left]), np.array([0.0, -gen.width]),
-                            np.array([-half[0], -gen.width - half[1]]), np.array([half[0], half[1]]))
-        for name, prob, solver in (("start", start, gen._start_solver), ("stop", stop, gen._stop_solver)):
-            solve_switching_ipopt(prob)  # build the casadi solver outside the timing, like ours
-            ours = solver.solve(prob)
-            ref = solve_switching_ipopt(prob)
-            out.append(timed(f"{name} NLP (16) + smoothness: ours", f"dt={dt * 1e3:g} ms, n_ds={gen.n_start}",
-                             lambda: solver.solve(prob), reps,
-                             baseline=("IPOPT (casadi)", lambda: solve_switching_ipopt(prob), ip_reps),
-                             paper="< 4 ms (IPOPT)",
-                             note=f"J ours {ours.J.sum():.6g} vs IPOPT {ref.J.sum():.6g}; goal <= 1 ms"))
+        start, stop = _switching_problems(gen)
+        h = gen.horizons
+        size = f"dt={dt * 1e3:g} ms, n_ds={gen.n_start}"
+        out.append(_switching_row("start", start, h.start_solver, size, reps, ip_reps))
+        out.append(_switching_row("stop", stop, h.stop_solver, size, reps, ip_reps))
     return out
 
 
@@ -120,8 +193,24 @@ def bench_online(quick: bool) -> list[Result]:
         gen.command(0.9, 0.1)
         for _ in range(8):
             gen.step()
-        out.append(timed("one online step (plan + emit 0.4 s)", f"dt={dt * 1e3:g} ms, {gen.n_step} ticks",
-                         gen.step, reps, paper="4 ms control period", note="goal p99 <= 1 ms"))
-        out.append(timed("one control tick", f"dt={dt * 1e3:g} ms", gen.tick, reps * 20,
-                         paper="4 ms control period", note="includes the planning tick"))
+        out.append(
+            timed(
+                "one online step (plan + emit 0.4 s)",
+                f"dt={dt * 1e3:g} ms, {gen.n_step} ticks",
+                gen.step,
+                reps,
+                paper="4 ms control period",
+                note="goal p99 <= 1 ms",
+            )
+        )
+        out.append(
+            timed(
+                "one control tick",
+                f"dt={dt * 1e3:g} ms",
+                gen.tick,
+                reps * 20,
+                paper="4 ms control period",
+                note="includes the planning tick",
+            )
+        )
     return out

@@ -10,16 +10,17 @@ from __future__ import annotations
 import importlib
 import os
 import sys
+from typing import NoReturn
 
 import typer
 
 try:  # typer >= 0.20 vendors click
     from typer._click import exceptions as _click_exc
 except ImportError:  # pragma: no cover - older typer depends on click
-    from click import exceptions as _click_exc
+    from click import exceptions as _click_exc  # type: ignore[no-redef]
 
-from ..errors import GaitshiftError
-from .app import app
+from gaitshift.cli.app import app
+from gaitshift.errors import GaitshiftError, InputError
 
 #: Command modules, in help order. Each is ``gaitshift.cli.<name>``.
 COMMAND_MODULES = ("core", "online", "robot", "sim", "slip", "bench")
@@ -27,12 +28,36 @@ COMMAND_MODULES = ("core", "online", "robot", "sim", "slip", "bench")
 
 def _load_commands() -> None:
     for name in COMMAND_MODULES:
-        module = f"{__name__}.{name}"
-        try:
-            importlib.import_module(module)
-        except ModuleNotFoundError as exc:  # a command module not written yet
-            if exc.name != module:
-                raise
+        importlib.import_module(f"{__name__}.{name}")
+
+
+def _fail(message: str) -> NoReturn:
+    """Print ``message`` as one line on stderr and exit with code 2."""
+    print("gaitshift: error: " + " ".join(message.split()), file=sys.stderr)
+    sys.exit(2)
+
+
+def _flag_value(flag: str, argv: list[str]) -> str | None:
+    """The text given to ``flag`` on the command line (``--flag value`` or ``--flag=value``)."""
+    for i, arg in enumerate(argv):
+        if arg == flag and i + 1 < len(argv):
+            return argv[i + 1]
+        if arg.startswith(flag + "="):
+            return arg[len(flag) + 1 :]
+    return None
+
+
+def _usage_message(exc: _click_exc.UsageError, argv: list[str]) -> str:
+    """Click's message, or for a flag whose text does not convert (``--height abc``) the house form
+    ``<flag> = <value> is invalid: allowed <what the type allows>``."""
+    param = getattr(exc, "param", None)
+    if type(exc) is _click_exc.BadParameter and param is not None and getattr(param, "opts", None):
+        flag = max(param.opts, key=len)
+        value = next((v for v in (_flag_value(o, argv) for o in param.opts) if v is not None), None)
+        if value is not None:
+            allowed = exc.message.removeprefix("Input should be ")
+            return str(InputError(flag, value, allowed))
+    return exc.format_message()
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -42,14 +67,15 @@ def main(argv: list[str] | None = None) -> None:
     try:
         rv = app(args=argv, standalone_mode=False, prog_name="gaitshift")
     except GaitshiftError as exc:
-        print(f"gaitshift: error: {exc}", file=sys.stderr)
-        sys.exit(2)
+        _fail(str(exc))
+    except _click_exc.NoArgsIsHelpError:  # `gaitshift` alone: the help was printed
+        sys.exit(0)
     except _click_exc.UsageError as exc:
-        msg = exc.format_message().replace("\n", " ")
-        print(f"gaitshift: error: {msg}", file=sys.stderr)
-        sys.exit(2)
-    except typer.Abort:
-        sys.exit(1)
+        _fail(_usage_message(exc, sys.argv[1:] if argv is None else argv))
+    except typer.Abort as exc:
+        if isinstance(exc.__cause__, EOFError):  # click turns a stray EOFError into Abort: a bug, show it
+            raise exc.__cause__ from None
+        sys.exit(130)  # Ctrl-C
     except typer.Exit as exc:
         sys.exit(exc.exit_code)
     except BrokenPipeError:  # e.g. `gaitshift plan ... | head -1`

@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
+import importlib
 import json
+import math
+from collections.abc import Callable
 from pathlib import Path
 
 import typer
 
-from ..scenario import builtin_names, load_scenario
-from ..trajectory import Trajectory, check_suffix
-from .app import app
+from gaitshift.cli.app import app, number, out_file, out_folder
+from gaitshift.errors import InputError
+from gaitshift.scenario import builtin_names, load_scenario
+from gaitshift.scenario.fields import COM_HEIGHT_RANGE, DURATION_RANGE, GRAVITY_RANGE
+from gaitshift.trajectory.contract import Trajectory
+from gaitshift.trajectory.formats import SUFFIXES
 
 
 @app.command("stiffness")
@@ -22,8 +28,16 @@ def stiffness_cmd(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object with T_w, T_r, v_r, T_t0, T_t1."),
 ) -> None:
     """Stiffness T of the time-varying LIPM for walking, running and transitions (paper 001 §III)."""
-    from ..stiffness import stiffness
+    from gaitshift.models.stiffness import stiffness
 
+    number(height, "--height", *COM_HEIGHT_RANGE)
+    for flag, value in (
+        ("--single-support", single_support),
+        ("--double-support", double_support),
+        ("--flight", flight),
+    ):
+        number(value, flag, *DURATION_RANGE)
+    number(gravity, "--gravity", *GRAVITY_RANGE)
     k = stiffness(height, single_support, double_support, flight, gravity)
     if as_json:
         typer.echo(json.dumps(k.as_dict()))
@@ -45,17 +59,21 @@ def scenarios_cmd() -> None:
 def plan_cmd(
     scenario: str = typer.Argument(..., help="Built-in scenario name or YAML path."),
     out: Path = typer.Option(..., "--out", help="Output file: .npz, .csv or .json."),
+    robot: str | None = typer.Option(None, "--robot", help="Robot (name or YAML) for a scenario naming none."),
 ) -> None:
     """Plan a scenario and write the trajectory file."""
-    from .. import plan
+    from gaitshift import plan
+    from gaitshift.api import with_robot
 
-    check_suffix(out, "--out")  # before planning: fail fast, write nothing
-    sc = load_scenario(scenario)
+    out_file(out, "--out", SUFFIXES)  # before planning: fail fast, write nothing
+    sc, _ = with_robot(load_scenario(scenario), robot)
     traj = plan(sc)
     traj.save(out)
     m = traj.meta
-    typer.echo(f"planned {sc.name} with {m['planner']}: {traj.t[-1]:.3f} s, {len(traj)} samples at "
-               f"dt={traj.dt:g} s, {len(traj.footsteps)} footholds")
+    typer.echo(
+        f"planned {sc.name} with {m['planner']}: {traj.t[-1]:.3f} s, {len(traj)} samples at "
+        f"dt={traj.dt:g} s, {len(traj.footsteps)} footholds"
+    )
     if "plan_time_s" in m:
         typer.echo(f"solve: {m.get('iterations', '?')} Gauss-Newton iterations, {m['plan_time_s'] * 1e3:.2f} ms")
     typer.echo(f"wrote {out}")
@@ -67,17 +85,48 @@ def plot_cmd(
     out: Path = typer.Option(..., "--out", help="Folder for the PNG figures."),
 ) -> None:
     """Write the figures of a planned trajectory as PNGs."""
+    out_folder(out, "--out")
     traj = Trajectory.load(file)
-    paths = _figures(traj, out)
+    paths = _figures(traj, out, str(file))
     for p in paths:
         typer.echo(f"wrote {p}")
 
 
-def _figures(traj: Trajectory, out: Path) -> list[Path]:
-    if traj.meta["planner"] == "vhip":
-        from ..plots.online import write_figures
-    else:
-        from ..plots.tvlip import write_figures  # type: ignore[no-redef]
+def _tvlip_meta(traj: Trajectory, source: str) -> None:
+    """The TV-LIPM figures redraw paper 001's Figs. 5-7 from ``meta.height`` and ``meta.scenario``."""
+    from pydantic import ValidationError
+
+    from gaitshift.scenario.fields import input_error
+    from gaitshift.scenario.tvlip import TvlipScenario
+
+    height = traj.meta.get("height")
+    lo, hi = COM_HEIGHT_RANGE
+    if not (isinstance(height, int | float) and not isinstance(height, bool) and lo <= height <= hi):
+        raise InputError(
+            f"{source}: meta.height", height, f"the CoM height of the plan, a number in [{lo:g}, {hi:g}] m"
+        )
+    try:
+        TvlipScenario.model_validate(traj.meta.get("scenario"))
+    except ValidationError as exc:
+        raise input_error(exc, TvlipScenario, prefix=f"{source}: meta.scenario.") from None
+
+
+#: planner of a trajectory -> (module with ``write_figures(traj, out)``, check of the meta it draws from)
+FIGURES: dict[str, tuple[str, Callable[[Trajectory, str], None] | None]] = {
+    "tvlip": ("gaitshift.plots.tvlip", _tvlip_meta),
+    "vhip": ("gaitshift.plots.online", None),
+    "locomotion": ("gaitshift.plots.locomotion", None),
+}
+
+
+def _figures(traj: Trajectory, out: Path, source: str = "Trajectory") -> list[Path]:
+    planner = traj.meta["planner"]
+    if planner not in FIGURES:
+        raise InputError(f"{source}: meta.planner", planner, "a planner with figures: " + ", ".join(FIGURES))
+    module, check_meta = FIGURES[planner]
+    if check_meta is not None:
+        check_meta(traj, source)  # before the first figure is written
+    write_figures: Callable[[Trajectory, Path], list[Path]] = importlib.import_module(module).write_figures
     return write_figures(traj, out)
 
 
@@ -91,8 +140,9 @@ def demo_cmd(
 ) -> None:
     """The main job: plan walk-run-walk (paper 001), write its file and figures, render the G1's
     whole-body motion, and run it closed-loop on the G1 in MuJoCo (video, figures, summary)."""
-    from .. import plan
+    from gaitshift import plan
 
+    out_folder(out, "--out")
     out.mkdir(parents=True, exist_ok=True)
     sc = load_scenario(DEMO_SCENARIO)
     traj = plan(sc)
@@ -101,11 +151,11 @@ def demo_cmd(
     for p in _figures(traj, out):
         typer.echo(f"wrote {p}")
     if video:
-        from ..robot.render import animate
+        from gaitshift.wholebody.render import animate
 
         path, joints = animate("g1-walk-run-walk", out / "g1_walk_run_walk.mp4", robot="g1")
         typer.echo(f"whole-body IK on the G1 ({len(joints.t)} samples) and video -> {path}")
-    from .sim import demo_simulation
+    from gaitshift.cli.sim import demo_simulation
 
     demo_simulation(out, video)
 
@@ -117,9 +167,10 @@ def check_cmd(
 ) -> None:
     """Verify a trajectory file's physics: ZMP identity, flight, continuity, support polygon, rest.
 
-    Exits 0 when every error is within its limit, 1 otherwise.
+    Exits 0 when every error is within its limit, 1 otherwise. In --json, min_vertical_force is null
+    when no sample is in support.
     """
-    from ..analysis import check_limits, physics_report
+    from gaitshift.analysis.physics import check_limits, physics_report
 
     traj = Trajectory.load(file)
     rep = physics_report(traj)
@@ -127,7 +178,8 @@ def check_cmd(
     ok = {k: rep[k] <= lim for k, lim in limits.items()}
     ok["min_vertical_force"] = rep["min_vertical_force"] > 0
     if as_json:
-        typer.echo(json.dumps({"report": rep, "pass": ok, "limits": limits}))
+        finite = {k: (v if math.isfinite(v) else None) for k, v in rep.items()}
+        typer.echo(json.dumps({"report": finite, "pass": ok, "limits": limits}, allow_nan=False))
     else:
         for k, val in rep.items():
             lim = limits.get(k)

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import typer
 
-from .app import app
+from gaitshift.cli.app import app
 
 _SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a scenario (built-in name or YAML)."
 
@@ -15,53 +14,64 @@ _SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a sce
 @app.command("robots")
 def robots_cmd() -> None:
     """List the built-in robots with the numbers read from their models."""
-    from ..robot import builtin_robots, load_robot
+    from gaitshift.robots import builtin_robots, load_robot
 
     for name in builtin_robots():
         r = load_robot(name)
-        typer.echo(f"{name:4s} {r.description}: {r.mass:.1f} kg, {len(r.joint_names)} joints, CoM height "
-                   f"{r.com_height:.3f} m, leg length {r.leg_length:.3f} m, soles {r.sole_size[0]:.3f} x "
-                   f"{r.sole_size[1]:.3f} m")
+        typer.echo(
+            f"{name:4s} {r.description}: {r.mass:.1f} kg, {len(r.joint_names)} joints, CoM height "
+            f"{r.com_height:.3f} m, leg length {r.leg_length:.3f} m, soles {r.sole_size[0]:.3f} x "
+            f"{r.sole_size[1]:.3f} m"
+        )
 
 
 @app.command("wholebody")
 def wholebody_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option("g1", "--robot", help="Built-in robot name (g1, t1) or robot YAML path."),
+    robot: str = typer.Option(
+        "g1", "--robot", help="Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
+    ),
     out: Path = typer.Option(..., "--out", help="Output .npz with t, qpos, qvel and meta (JSON)."),
-    rate: Optional[float] = typer.Option(None, "--rate", help="Output rate, Hz (1/(k dt)); default: plan step."),
+    rate: float | None = typer.Option(None, "--rate", help="Output rate, Hz (1/(k dt)); default: plan step."),
 ) -> None:
     """Whole-body IK: joint trajectories that reproduce the planned CoM and sole poses."""
-    from ..errors import InputError
-    from ..robot.ik import load_plan, wholebody
+    from gaitshift.errors import InputError
+    from gaitshift.wholebody.ik import wholebody
+    from gaitshift.wholebody.joints import load_plan
 
     if out.suffix.lower() != ".npz":
         raise InputError("--out", str(out), "a file ending in .npz")
     joints = wholebody(load_plan(file), robot, rate=rate)
     joints.save(out)
     ik = joints.meta["ik"]
-    typer.echo(f"{joints.meta['robot']}: {len(joints.t)} samples over {joints.t[-1] - joints.t[0]:.3f} s; max "
-               f"error CoM {ik['max_com_error_m'] * 1e3:.3f} mm, soles {ik['max_sole_position_error_m'] * 1e3:.3f} "
-               f"mm / {ik['max_sole_orientation_error_rad']:.2e} rad; IK {ik['total_time_s']:.2f} s "
-               f"({ik['time_per_sample_median_s'] * 1e3:.3f} ms/sample median)")
+    typer.echo(
+        f"{joints.meta['robot']}: {len(joints.t)} samples over {joints.t[-1] - joints.t[0]:.3f} s; max "
+        f"error CoM {ik['max_com_error_m'] * 1e3:.3f} mm, soles {ik['max_sole_position_error_m'] * 1e3:.3f} "
+        f"mm / {ik['max_sole_orientation_error_rad']:.2e} rad; IK {ik['total_time_s']:.2f} s "
+        f"({ik['time_per_sample_median_s'] * 1e3:.3f} ms/sample median)"
+    )
+    for task in ik.get("dropped_tasks", []):
+        typer.echo(f"dropped task: {task} (the leg has no joint to roll its foot; the sole roll is not controlled)")
     typer.echo(f"wrote {out}")
 
 
 @app.command("animate")
 def animate_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option("g1", "--robot", help="Built-in robot name (g1, t1) or robot YAML path."),
+    robot: str = typer.Option(
+        "g1", "--robot", help="Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
+    ),
     out: Path = typer.Option(..., "--out", help="Output .mp4."),
-    joints: Optional[Path] = typer.Option(None, "--joints", help="Reuse joint trajectories from `gaitshift wholebody`."),
+    joints: Path | None = typer.Option(None, "--joints", help="Reuse joint trajectories from `gaitshift wholebody`."),
     rate: float = typer.Option(500.0, "--rate", help="IK rate, Hz (when --joints is not given)."),
     fps: float = typer.Option(30.0, "--fps", help="Video frame rate, Hz."),
     width: int = typer.Option(640, "--width", help="Video width, pixels (even)."),
     height: int = typer.Option(360, "--height", help="Video height, pixels (even)."),
 ) -> None:
     """Offscreen MP4 of the whole-body motion with the CoM, ZMP and footsteps drawn."""
-    from ..errors import InputError
-    from ..robot.ik import JointTrajectory
-    from ..robot.render import animate
+    from gaitshift.errors import InputError
+    from gaitshift.wholebody.joints import JointTrajectory
+    from gaitshift.wholebody.render import animate
 
     if out.suffix.lower() != ".mp4":
         raise InputError("--out", str(out), "a file ending in .mp4")
@@ -73,25 +83,24 @@ def animate_cmd(
 @app.command("scale")
 def scale_cmd(
     scenario: str = typer.Argument(..., help="Scenario to scale (built-in name or YAML)."),
-    robot: str = typer.Option("g1", "--robot", help="Built-in robot name (g1, t1) or robot YAML path."),
+    robot: str = typer.Option("g1", "--robot", help="Built-in robot name or robot YAML path."),
     out: Path = typer.Option(..., "--out", help="Output scenario YAML."),
+    time_scale: str = typer.Option(
+        "keep", "--time-scale", help="keep: the scenario's durations; froude: durations x sqrt(lambda)."
+    ),
 ) -> None:
     """Scale a paper scenario to a robot (CoM height, strides, feet; see docs/robot.md) and write it as YAML."""
-    import json
 
-    import yaml
-
-    from ..errors import InputError
-    from ..io import atomic_path
-    from ..robot.scaling import scale_factor, scale_scenario
-    from ..scenario import load_scenario
+    from gaitshift.common.atomic import atomic_path
+    from gaitshift.errors import InputError
+    from gaitshift.scenario import load_scenario
+    from gaitshift.wholebody.scaling import scale_factor, scale_scenario, scenario_yaml
 
     if out.suffix.lower() not in (".yaml", ".yml"):
         raise InputError("--out", str(out), "a file ending in .yaml or .yml")
     sc = load_scenario(scenario)
-    scaled = scale_scenario(sc, robot)
-    data = json.loads(scaled.model_dump_json())
+    scaled = scale_scenario(sc, robot, time_scale=time_scale)
+    header = f"{sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f} (gaitshift scale)"
     with atomic_path(out) as tmp:
-        tmp.write_text(f"# {sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f} (gaitshift scale)\n"
-                       + yaml.safe_dump(data, sort_keys=False))
+        tmp.write_text(scenario_yaml(scaled, header))
     typer.echo(f"scaled {sc.name} by {scale_factor(sc, robot):.4f} for {robot} -> {out}")

@@ -1,33 +1,99 @@
-"""``gaitshift simulate``: plan a scenario and run it closed-loop on the simulated G1."""
+"""``gaitshift simulate``: plan a scenario and run it closed-loop on a simulated robot (``--robot``)."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Optional
+from typing import Any
 
 import typer
 
-from ..errors import InputError
-from .app import app
+from gaitshift.cli.app import app
+from gaitshift.errors import InputError
 
 
 @app.command("simulate")
 def simulate_cmd(
     scenario: str = typer.Argument(..., help="Built-in scenario name or YAML path."),
     out: Path = typer.Option(..., "--out", help="Simulation log (.npz)."),
-    video: Optional[Path] = typer.Option(None, "--video", help="Write an MP4 video (needs MUJOCO_GL=egl)."),
+    video: Path | None = typer.Option(None, "--video", help="Write an MP4 video (needs MUJOCO_GL=egl)."),
     viewer: bool = typer.Option(False, "--viewer", help="Open the MuJoCo viewer (needs a display)."),
     push: float = typer.Option(0.0, "--push", help="Lateral impulse, N s, at mid-stance of steps 4 and 8."),
-    figures: Optional[Path] = typer.Option(None, "--figures", help="Folder for the figures (PNG)."),
+    figures: Path | None = typer.Option(None, "--figures", help="Folder for the figures (PNG)."),
     control_period: float = typer.Option(0.002, "--control-period", help="Control period = time step, s."),
-    as_json: bool = typer.Option(False, "--json", help="Print the metrics as JSON instead of a table."),
+    as_json: bool = typer.Option(False, "--json", help="Print the metrics as JSON (alone on stdout)."),
+    robot: str | None = typer.Option(
+        None, "--robot", help="Built-in robot name or robot YAML path (default: the scenario's robot, else g1)."
+    ),
+    state: str | None = typer.Option(None, "--state", help="What the controller sees: oracle (default) or estimated."),
+    noise: str | None = typer.Option(None, "--noise", help="Sensor noise: none, typical (default) or rl-peer."),
+    noise_scale: float | None = typer.Option(None, "--noise-scale", help="Factor on every sensor noise (1)."),
+    latency: int | None = typer.Option(None, "--latency", help="Loop latency, ticks (sensing + actuation; 0)."),
+    friction: float | None = typer.Option(None, "--friction", help="The floor's friction coefficient."),
+    seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
 ) -> None:
-    """Simulate SCENARIO on the G1 (MuJoCo) and print the summary metrics."""
-    from .. import plan
-    from ..scenario import load_scenario
-    from ..sim.loop import OnlineReplanner, SimOptions, mid_stance_pushes, simulate
-    from ..sim.metrics import format_metrics
+    """Simulate SCENARIO on a robot (MuJoCo) and print the summary metrics; exit 1 when it falls.
+
+    The robot is the scenario's ``robot``, else --robot, else g1; a --robot other than the scenario's
+    own robot is an error (scale the scenario first: `gaitshift scale`). Before the run, the robot's
+    joint-speed limits are checked against the plan's whole-body motion (IK)."""
+    from gaitshift.api import plan, robot_facts, with_robot
+    from gaitshift.common.jsonsafe import finite_json
+    from gaitshift.control.drivers import driver_for
+    from gaitshift.robots import load_robot
+    from gaitshift.scenario import load_scenario
+    from gaitshift.sim.loop import SimOptions, simulate
+    from gaitshift.sim.metrics import format_metrics
+    from gaitshift.sim.pushes import mid_stance_pushes
+
+    flags = sensing_flags(
+        out,
+        video,
+        push,
+        state=state,
+        noise=noise,
+        noise_scale=noise_scale,
+        latency=latency,
+        friction=friction,
+        seed=seed,
+    )
+    sc, robot_name = with_robot(load_scenario(scenario), robot)
+    cfg = load_robot(robot_name)
+    replanner = driver_for(sc, robot_facts(sc), control_period)
+    traj = replanner.trajectory if replanner else plan(sc)
+    if replanner is None:
+        from gaitshift.wholebody.checks import check_joint_speeds
+
+        check_joint_speeds(cfg, traj)
+    pushes = mid_stance_pushes(traj, push) if push > 0 else ()
+    sensing = sc.sim.given() | flags
+    opts = SimOptions(
+        control_period=control_period, pushes=pushes, video=str(video) if video else None, viewer=viewer, **sensing
+    )
+    result = simulate(traj, opts, replanner=replanner, robot=cfg)
+    if replanner is not None:
+        traj = replanner.trajectory  # the plan as finally re-planned from the measured states
+    result.save(out)
+    if figures is not None:
+        from gaitshift.plots.sim import plot_all
+
+        for p in plot_all(result, traj, figures):
+            typer.echo(f"wrote {p}", err=as_json)
+    if as_json:
+        typer.echo(json.dumps(finite_json(result.metrics), allow_nan=False))
+    else:
+        typer.echo(_summary_line(sc.name, cfg.name, traj, replanner, result.meta))
+        typer.echo(format_metrics(result.metrics))
+    typer.echo(f"wrote {out}" + (f", {video}" if video else ""), err=as_json)
+    if result.fell:
+        raise typer.Exit(1)
+
+
+def sensing_flags(out: Path, video: Path | None, push: float, **given: Any) -> dict[str, Any]:
+    """Check ``simulate``'s file and push flags and return the given sensing flags as SimOptions fields.
+
+    A bad sensing value is reported under its flag's name (``--noise-scale``), not the option's."""
+    from gaitshift.sim.loop import SimOptions
 
     if out.suffix.lower() != ".npz":
         raise InputError("--out", str(out), "a file ending in .npz")
@@ -35,30 +101,24 @@ def simulate_cmd(
         raise InputError("--video", str(video), "a file ending in .mp4")
     if push < 0:
         raise InputError("--push", push, "an impulse >= 0 N s")
-    sc = load_scenario(scenario)
-    replanner = OnlineReplanner(sc) if sc.planner == "vhip" else None
-    traj = replanner.trajectory if replanner else plan(sc)
-    pushes = mid_stance_pushes(traj, push) if push > 0 else ()
-    opts = SimOptions(control_period=control_period, pushes=pushes,
-                      video=str(video) if video else None, viewer=viewer)
-    result = simulate(traj, opts, replanner=replanner)
+    flags = {k: v for k, v in given.items() if v is not None}
+    try:
+        SimOptions(**flags)
+    except InputError as exc:  # name the flag, not the option
+        raise InputError("--" + exc.field.replace("_", "-"), exc.value, exc.allowed) from None
+    return flags
+
+
+def _summary_line(scenario: str, robot: str, traj: Any, replanner: Any, meta: dict[str, Any]) -> str:
+    """The first line of the text report: scenario, robot, footholds, planned duration and feedback."""
+    how = ""
     if replanner is not None:
-        traj = replanner.trajectory  # the plan as finally re-planned from the measured states
-    result.save(out)
-    if figures is not None:
-        from ..plots.sim import plot_all
-
-        for p in plot_all(result, traj, figures):
-            typer.echo(f"wrote {p}")
-    if as_json:
-        from ..sim.loop import finite_json
-
-        typer.echo(json.dumps(finite_json(result.metrics), allow_nan=False))
-    else:
-        how = f", {result.meta['replans']} re-plans from the measured CoM" if replanner else ""
-        typer.echo(f"scenario {sc.name}: {len(traj.footsteps) - 2} footholds, {traj.t[-1]:.2f} s planned{how}")
-        typer.echo(format_metrics(result.metrics))
-    typer.echo(f"wrote {out}" + (f", {video}" if video else ""))
+        how = (
+            ", capture-point step feedback from the measured CoM"
+            if replanner.step_feedback
+            else f", {meta['replans']} re-plans from the measured CoM"
+        )
+    return f"scenario {scenario} on {robot}: {len(traj.footsteps) - 2} footholds, {traj.t[-1]:.2f} s planned{how}"
 
 
 #: Scenario simulated by ``gaitshift demo`` (falls back to g1-walk when it is not installed).
@@ -67,12 +127,12 @@ DEMO_SIM_SCENARIO = "g1-walk-run-walk"
 
 def demo_simulation(out: Path, video: bool) -> None:
     """``make demo`` step: simulate walk-run-walk on the G1; video, figures and summary into ``out``."""
-    from .. import plan
-    from ..scenario import builtin_names, load_scenario
-    from ..sim.loop import SimOptions, simulate
-    from ..sim.metrics import format_metrics
-    from ..plots.sim import plot_all
-    from ..io import atomic_path
+    from gaitshift import plan
+    from gaitshift.common.atomic import atomic_path
+    from gaitshift.plots.sim import plot_all
+    from gaitshift.scenario import builtin_names, load_scenario
+    from gaitshift.sim.loop import SimOptions, simulate
+    from gaitshift.sim.metrics import format_metrics
 
     name = DEMO_SIM_SCENARIO if DEMO_SIM_SCENARIO in builtin_names() else "g1-walk"
     traj = plan(load_scenario(name))

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import typer
 
-from ..errors import InputError
-from .app import app
+from gaitshift.cli.app import app, flags_named, out_folder
+from gaitshift.errors import InputError
 
 
 @app.command("compare-slip")
@@ -21,15 +21,15 @@ def compare_slip_cmd(
     repeats: int = typer.Option(3, "--repeats", help="Timing repetitions of the SLIP optimisation (median)."),
 ) -> None:
     """Optimise a periodic 3D-SLIP half cycle, run the TV-LIPM on its timings, plot and time both."""
-    from ..plots import slip as slip_plot
-    from ..io import atomic_path
-    from ..slip_compare import compare
+    from gaitshift.analysis.slip_compare import compare
+    from gaitshift.common.atomic import atomic_path
+    from gaitshift.plots import slip as slip_plot
 
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", str(out), "a folder (it is created if missing)")
+    out_folder(out, "--out")
     if not 1 <= repeats <= 100:
         raise InputError("--repeats", repeats, "an integer in [1, 100]")
-    cmp = compare(speed, flight=flight, step_width=step_width, slip_repeats=repeats)
+    with flags_named({"speed": "--speed", "flight": "--flight", "step_width": "--step-width"}):
+        cmp = compare(speed, flight=flight, step_width=step_width, slip_repeats=repeats)
     data = cmp.as_dict()
     data["samples"] = {"t": cmp.t.tolist(), "slip_pos": cmp.slip_pos.tolist(), "tvlip_pos": cmp.tvlip_pos.tolist()}
     text = json.dumps(data, indent=2, allow_nan=False)
@@ -40,14 +40,22 @@ def compare_slip_cmd(
         tmp.write_text(text)
     s, tm = data["slip"], data["timing"]
     dev = data["max_deviation_m"]
-    typer.echo(f"SLIP  k={s['stiffness_N_per_m']:.0f} N/m m={s['mass_kg']:.0f} kg l0={s['leg_length_m']} m: "
-               f"tau_SS={s['stance_s']:.4f} s tau_F={s['flight_s']:.4f} s h={s['touchdown_height_m']:.4f} m "
-               f"periodicity error {s['periodicity_error']:.1e}")
+    typer.echo(
+        f"SLIP  k={s['stiffness_N_per_m']:.0f} N/m m={s['mass_kg']:.0f} kg l0={s['leg_length_m']} m: "
+        f"tau_SS={s['stance_s']:.4f} s tau_F={s['flight_s']:.4f} s h={s['touchdown_height_m']:.4f} m "
+        f"periodicity error {s['periodicity_error']:.1e}"
+    )
     typer.echo(f"TV-LIPM T_r={cmp.T_r:.5f} s v_r={cmp.v_r:.4f} m/s")
-    typer.echo("max deviation: " + ", ".join(f"{a} {v * 1e3:.2f} mm" for a, v in dev.items())
-               + f" (x displacement {cmp.displacement[0]:.3f} m)")
+    typer.echo(
+        "max deviation: "
+        + ", ".join(f"{a} {v * 1e3:.2f} mm" for a, v in dev.items())
+        + f" (x displacement {cmp.displacement[0]:.3f} m)"
+    )
     ratio = tm["ratio"]
-    typer.echo(f"time: SLIP {tm['slip_optimise_and_integrate_s'] * 1e3:.1f} ms, T_r {tm['tvlip_T_r_solve_s'] * 1e3:.3f} ms,"
-               f" ratio {ratio:.0f}x" + ("" if math.isfinite(ratio) else " (n/a)")
-               + f"  [paper: 24.9 s / 8 ms = {tm['paper_ratio']:.0f}x]")
+    typer.echo(
+        f"time: SLIP {tm['slip_optimise_and_integrate_s'] * 1e3:.1f} ms, T_r {tm['tvlip_T_r_solve_s'] * 1e3:.3f} ms,"
+        f" ratio {ratio:.0f}x"
+        + ("" if math.isfinite(ratio) else " (n/a)")
+        + f"  [paper: 24.9 s / 8 ms = {tm['paper_ratio']:.0f}x]"
+    )
     typer.echo(f"wrote {fig_path} and {json_path}")

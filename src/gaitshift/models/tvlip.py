@@ -20,11 +20,16 @@ All functions broadcast over leading axes; positions are m, velocities m/s, time
 from __future__ import annotations
 
 import math
+from typing import TypeAlias, overload
 
 import numpy as np
 
+from gaitshift.models.arrays import FloatArray, FloatLike
 
-def support_state(p0, v0, c0, c1, T, tau, t, g):
+
+def support_state(
+    p0: FloatArray, v0: FloatArray, c0: FloatArray, c1: FloatArray, T: FloatLike, tau: FloatLike, t: FloatLike, g: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """CoM position, velocity, acceleration at time ``t`` into a support phase (eqs. (1)-(4)).
 
     Args:
@@ -53,7 +58,7 @@ def support_state(p0, v0, c0, c1, T, tau, t, g):
     return p, v, a, c
 
 
-def flight_state(p0, v0, t, g):
+def flight_state(p0: FloatArray, v0: FloatArray, t: FloatLike, g: float) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Ballistic CoM position, velocity and acceleration ``t`` s after take-off (eqs. (5)-(6)).
 
     Shapes: p0, v0 (..., 3); t (...). Returns (p, v, a), each (..., 3).
@@ -66,13 +71,30 @@ def flight_state(p0, v0, t, g):
     return p, v, a
 
 
-def support_map_1d(z, v, T, tau, g, c=0.0):
+#: (z1, v1, (dz1/dz, dz1/dv, dz1/dT), (dv1/dz, dv1/dv, dv1/dT)) of :func:`support_map_1d`
+SupportMap: TypeAlias = tuple[float, float, tuple[float, float, float], tuple[float, float, float]]
+SupportMapArrays: TypeAlias = tuple[
+    FloatLike, FloatLike, tuple[FloatLike, FloatLike, FloatLike], tuple[FloatLike, FloatLike, FloatLike]
+]
+
+
+@overload
+def support_map_1d(z: float, v: float, T: float, tau: float, g: float, c: float = 0.0) -> SupportMap: ...
+@overload
+def support_map_1d(
+    z: FloatLike, v: FloatLike, T: FloatLike, tau: FloatLike, g: float, c: FloatLike = 0.0
+) -> SupportMapArrays: ...
+def support_map_1d(
+    z: FloatLike, v: FloatLike, T: FloatLike, tau: FloatLike, g: float, c: FloatLike = 0.0
+) -> SupportMapArrays:
     """Vertical support map with constant ZMP height ``c`` and its partial derivatives.
 
     Returns ``(z1, v1, dz1, dv1)`` where dz1 and dv1 are tuples of partials with respect to
     (z, v, T). Broadcasts over all inputs. Used by the stiffness root finding (eqs. (9)-(14)).
     """
     a = tau / T
+    ch: FloatLike
+    sh: FloatLike
     if isinstance(a, float):  # scalar fast path: math is ~20x faster than numpy on 0-d values
         ch, sh = math.cosh(a), math.sinh(a)
     else:

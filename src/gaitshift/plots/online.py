@@ -14,20 +14,13 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from ..io import atomic_path  # noqa: E402
-from ..trajectory import DS, FLIGHT, SS, Trajectory  # noqa: E402
+from gaitshift.plots.files import save_figure
+from gaitshift.trajectory.contract import DS, FLIGHT, SS, Trajectory
 
-__all__ = ["write_figures", "fig3_start", "fig4_run", "fig7_speed"]
-
-
-def _save(fig, path: Path) -> Path:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120, bbox_inches="tight")
-    plt.close(fig)
-    return path
+__all__ = ["fig3_start", "fig4_run", "fig7_speed", "write_figures"]
 
 
 def _takeoffs(traj: Trajectory) -> np.ndarray:
@@ -75,7 +68,7 @@ def fig3_start(traj: Trajectory, path: Path) -> Path:
         ax.legend(loc="best", fontsize=7)
     axes[1].set_xlabel("t [s]")
     axes[0].set_title("State Switching 1: segmented cubic ZMP and CoM (paper 003, Fig. 3)")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def fig4_run(traj: Trajectory, path: Path) -> Path:
@@ -93,8 +86,14 @@ def fig4_run(traj: Trajectory, path: Path) -> Path:
         ax.plot(traj.t[sup], traj.zmp[sup, k], "r.", ms=1, label=f"ZMP {name}")
         for s, color in ((0, "g"), (1, "m")):
             on = traj.contact[:, s]
-            ax.plot(traj.t[on], traj.foot_pos[on, s, k], ".", color=color, ms=1,
-                    label=("left" if s == 0 else "right") + " foothold")
+            ax.plot(
+                traj.t[on],
+                traj.foot_pos[on, s, k],
+                ".",
+                color=color,
+                ms=1,
+                label=("left" if s == 0 else "right") + " foothold",
+            )
         ax.set_ylabel(f"{name} [m]")
         ax.legend(loc="best", fontsize=7, markerscale=6)
     ax = axes[2]
@@ -107,7 +106,7 @@ def fig4_run(traj: Trajectory, path: Path) -> Path:
     ax.set_xlabel("t [s]")
     ax.legend(loc="best", fontsize=7)
     axes[0].set_title("Complete run: start (red), cyclic running (green), stop (blue) (paper 003, Fig. 4)")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def fig7_speed(traj: Trajectory, path: Path) -> Path:
@@ -121,12 +120,15 @@ def fig7_speed(traj: Trajectory, path: Path) -> Path:
     ax.set_ylabel("forward speed [m/s]")
     ax.set_title("Speed tracking: the take-off speed reaches the command two steps later (paper 003, Fig. 7)")
     ax.legend(loc="best", fontsize=8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def write_figures(traj: Trajectory, out_dir: str | Path) -> list[Path]:
     """Write Figs. 3, 4 and 7 of paper 003 for a ``vhip`` trajectory into ``out_dir``."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    return [fig3_start(traj, out / "fig3_start.png"), fig4_run(traj, out / "fig4_run.png"),
-            fig7_speed(traj, out / "fig7_speed.png")]
+    return [
+        fig3_start(traj, out / "fig3_start.png"),
+        fig4_run(traj, out / "fig4_run.png"),
+        fig7_speed(traj, out / "fig7_speed.png"),
+    ]

@@ -15,17 +15,15 @@ from typing import Any
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from ..io import atomic_path  # noqa: E402
+from gaitshift.common.runs import true_runs
+from gaitshift.plots.files import save_figure
 
 
-def _save(fig, path: Path) -> Path:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-    plt.close(fig)
-    return path
+def _save(fig: Any, path: Path) -> Path:
+    return save_figure(fig, path, format="png", dpi=110, bbox_inches=None)
 
 
 def plot_com_grf(result: Any, traj: Any, path: Path, mass: float) -> Path:
@@ -45,18 +43,14 @@ def plot_com_grf(result: Any, traj: Any, path: Path, mass: float) -> Path:
     ax[1].set_xlabel("t [s]")
     ax[1].legend(loc="best")
     _shade_flight(ax, t, a["contact_ref"])
-    fig.suptitle("G1 closed loop: CoM height and vertical ground reaction force")
+    fig.suptitle("Closed loop: CoM height and vertical ground reaction force")
     fig.tight_layout()
     return _save(fig, path)
 
 
-def _shade_flight(axes, t, contact):
-    air = ~np.any(contact, axis=1)
-    if not np.any(air):
-        return
-    m = np.concatenate([[False], air, [False]]).astype(np.int8)
-    d = np.diff(m)
-    for s, e in zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1)):
+def _shade_flight(axes: Any, t: np.ndarray, contact: np.ndarray) -> None:
+    """Grey bands over the planned flight phases (no foot in contact) on every axis of ``axes``."""
+    for s, e in true_runs(~np.any(contact, axis=1)):
         for ax in axes:
             ax.axvspan(t[s], t[e - 1], color="0.9", lw=0)
 
@@ -79,7 +73,7 @@ def plot_speed(result: Any, traj: Any, path: Path) -> Path:
 
 
 def plot_snapshots(result: Any, model: Any, path: Path, count: int = 6) -> Path | None:
-    import mujoco  # noqa: PLC0415
+    import mujoco
 
     a = result.arrays
     n = len(a["t"])
@@ -87,12 +81,12 @@ def plot_snapshots(result: Any, model: Any, path: Path, count: int = 6) -> Path 
         return None
     try:
         renderer = mujoco.Renderer(model, height=320, width=240)
-    except Exception:  # noqa: BLE001 - no OpenGL context
-        return None
+    except (mujoco.FatalError, RuntimeError, ImportError, OSError, AttributeError):
+        return None  # no OpenGL context (no device, no library, wrong PYOPENGL_PLATFORM): no snapshots
     d = mujoco.MjData(model)
     idx = np.linspace(0, n - 1, count).astype(int)
     fig, ax = plt.subplots(1, count, figsize=(2.2 * count, 3.2))
-    for axk, k in zip(np.atleast_1d(ax), idx):
+    for axk, k in zip(np.atleast_1d(ax), idx, strict=True):
         d.qpos[:] = a["qpos"][k]
         mujoco.mj_forward(model, d)
         cam = mujoco.MjvCamera()
@@ -110,13 +104,15 @@ def plot_snapshots(result: Any, model: Any, path: Path, count: int = 6) -> Path 
 
 def plot_all(result: Any, traj: Any, folder: str | Path) -> list[Path]:
     """Write every figure into ``folder``; returns the paths written."""
-    from ..sim.plant import build_plant  # noqa: PLC0415
+    from gaitshift.sim.plant import build_plant
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    plant = build_plant(float(result.meta["control_period"]))
-    out = [plot_com_grf(result, traj, folder / "sim_com_grf.png", plant.mass),
-           plot_speed(result, traj, folder / "sim_speed.png")]
+    plant = build_plant(float(result.meta["control_period"]), result.meta.get("robot", "g1"))
+    out = [
+        plot_com_grf(result, traj, folder / "sim_com_grf.png", plant.mass),
+        plot_speed(result, traj, folder / "sim_speed.png"),
+    ]
     snap = plot_snapshots(result, plant.model, folder / "sim_snapshots.png")
     if snap is not None:
         out.append(snap)

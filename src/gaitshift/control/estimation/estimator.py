@@ -1,0 +1,172 @@
+"""The state estimator the controller talks to: sensors in, one :class:`EstimatedState` out per tick.
+
+Per tick (period ``dt``)::
+
+    contact  = ContactDetector(forces)                    hysteresis + debounce on the sole forces
+    q, qd    = JointVelocityFilter(encoders, driver qd)   steady-state Kalman filter per joint
+    kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
+    R, p, v  = filter.step(imu, kin.feet, contact, dt)    "inekf" (default) or "leg-odometry"
+    x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
+    slip_i   = contact_i and |LP(v_w,i)|_xy > slip_speed   a stance sole that moves: lower the friction
+
+``LP`` is a first-order low-pass (time constant ``slip_tau``) on the sole's velocity vector, reset in
+swing: zero-mean noise of the joint velocities averages out, a sustained slide does not. A sole that
+slips is no contact for the filter at the next tick (its kinematics would drag the base estimate);
+if both soles exceed the threshold, only the faster one slips: a sliding sole biases the estimated
+base velocity, which makes the still sole look as if it moved.
+
+The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
+placed in the world with the estimated IMU pose; the simulator's data is never read.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from gaitshift.control.estimation.contact import ContactDetector
+from gaitshift.control.estimation.filters import DEFAULT_FILTER, make_filter
+from gaitshift.control.estimation.joints import JointVelocityFilter
+from gaitshift.control.estimation.kinematics import LegKinematics
+from gaitshift.control.estimation.lie import SKEW, mat_of_quat
+from gaitshift.control.estimation.noise import NoiseProfile
+from gaitshift.control.estimation.tuning import FilterTuning
+from gaitshift.control.estimation.types import EstimatedState, FootForces, ImuReading, JointReading
+from gaitshift.errors import InputError
+
+SOLE_SITES = ("gaitshift_left_sole", "gaitshift_right_sole")
+
+
+class StateEstimator:
+    """Contact detection, joint filtering, base filter, CoM and slip, for one robot (module docstring).
+
+    Args:
+        model: ``mujoco.MjModel`` of the robot (one free joint, first); only read.
+        dt: tick period, s.
+        imu_site: name of the IMU site (its gyro/accelerometer frame).
+        sole_sites: (left, right) sole-centre site names.
+        filter: base filter name (:data:`gaitshift.control.estimation.filters.FILTERS`).
+        noise: noise profile the sensors follow (name or :class:`NoiseProfile`); sets the tuning.
+        tuning: explicit tuning (overrides ``noise``).
+        contact_on, contact_off: contact thresholds, fractions of the robot weight.
+        debounce: contact debounce, ticks.
+        slip_speed: horizontal stance-sole speed above which the sole slips, m/s.
+        slip_tau: time constant of the low-pass on the sole velocity before that test, s.
+        gravity: g, m/s^2.
+    """
+
+    def __init__(
+        self,
+        model: Any,
+        dt: float,
+        *,
+        imu_site: str = "imu_in_pelvis",
+        sole_sites: tuple[str, str] = SOLE_SITES,
+        filter: str = DEFAULT_FILTER,
+        noise: str | NoiseProfile = "typical",
+        tuning: FilterTuning | None = None,
+        contact_on: float = 0.15,
+        contact_off: float = 0.05,
+        debounce: int = 2,
+        slip_speed: float = 0.2,
+        slip_tau: float = 0.03,
+        gravity: float = 9.81,
+    ):
+        if not dt > 0:
+            raise InputError("estimator.dt", dt, "a period > 0 s")
+        if not slip_speed > 0:
+            raise InputError("estimator.slip_speed", slip_speed, "a speed > 0 m/s")
+        if not slip_tau > 0:
+            raise InputError("estimator.slip_tau", slip_tau, "a time constant > 0 s")
+        self.dt = float(dt)
+        self.tuning = tuning if tuning is not None else FilterTuning.from_profile(noise, dt)
+        t = self.tuning
+        self.kinematics = LegKinematics(model, imu_site, sole_sites, t.encoder_std)
+        self.contact = ContactDetector(self.kinematics.mass * gravity, contact_on, contact_off, debounce)
+        n = self.kinematics.n_joints
+        self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
+        self.filter_name = filter
+        self.filter = make_filter(filter, t, gravity)
+        self.slip_speed2 = float(slip_speed) ** 2
+        self._slip_alpha = float(1.0 - np.exp(-dt / slip_tau))
+        self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)  # (left x, y, right x, y), m/s
+        self._slip = (False, False)
+        self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
+        self._quat = np.empty(4)
+
+    @classmethod
+    def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
+        """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model and sole sites)."""
+        return cls(robot.model(), dt, sole_sites=robot.SOLE_SITES, **kwargs)
+
+    def reset(
+        self, qpos: np.ndarray, qvel: np.ndarray | None = None, contact: tuple[bool, bool] = (True, True)
+    ) -> None:
+        """Restart from a known state: MuJoCo ``qpos`` (7 + nj,), ``qvel`` (6 + nj,) (zero if None),
+        and the stance flags (2,)."""
+        qpos = np.asarray(qpos, dtype=float)
+        qvel = np.zeros(qpos.size - 1) if qvel is None else np.asarray(qvel, dtype=float)
+        if qpos.shape != (self.kinematics.n_joints + 7,) or qvel.shape != (self.kinematics.n_joints + 6,):
+            raise InputError("estimator.reset", (qpos.shape, qvel.shape), "qpos (7 + nj,) and qvel (6 + nj,)")
+        q, qd = qpos[7:], qvel[6:]
+        kin = self.kinematics.compute(q, qd)
+        rot_b = mat_of_quat(qpos[3:7] / np.linalg.norm(qpos[3:7]))
+        rot = rot_b @ kin.base_rot.T  # IMU orientation
+        pos = qpos[0:3] - rot @ kin.points[3]
+        omega_w = rot_b @ qvel[3:6]
+        vel = qvel[0:3] + np.cross(omega_w, pos - qpos[0:3])
+        self.filter.reset(rot, pos, vel)
+        self.joints.reset(q, qd)
+        self.contact.reset(contact)
+        self._slip = (False, False)
+        self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)
+
+    def step(self, imu: ImuReading, joints: JointReading, forces: FootForces) -> EstimatedState:
+        """One tick: readings in, the estimated state out (module docstring)."""
+        contact = self.contact.update(forces)
+        q, qd = self.joints.update(joints.q, joints.qd)
+        kin = self.kinematics.compute(q, qd)
+        left, right = contact.tolist()
+        stance = self._stance[left and not self._slip[0], right and not self._slip[1]]  # slipping soles drop out
+        base = self.filter.step(imu, kin.feet, stance, self.dt)
+        rot = base.rot
+        rot_t = rot.T
+        y = kin.points
+        rel = kin.points_vel - y.dot(base.omega.dot(SKEW).reshape(3, 3))  # dy/dt + w x y
+        x_w = y.dot(rot_t)
+        x_w += base.pos
+        v_w = rel.dot(rot_t)
+        v_w += base.vel
+        (vlx, vly, _), (vrx, vry, _) = v_w[0:2].tolist()
+        a, (lx, ly, rx, ry) = self._slip_alpha, self._foot_vel_lp  # low-passed sole velocity, zero in swing
+        lx, ly = (lx + a * (vlx - lx), ly + a * (vly - ly)) if left else (0.0, 0.0)
+        rx, ry = (rx + a * (vrx - rx), ry + a * (vry - ry)) if right else (0.0, 0.0)
+        self._foot_vel_lp = (lx, ly, rx, ry)
+        speed_l, speed_r = lx * lx + ly * ly, rx * rx + ry * ry
+        slip_l, slip_r = left and speed_l > self.slip_speed2, right and speed_r > self.slip_speed2
+        if slip_l and slip_r:  # a slide biases the base velocity, so the still sole looks slow-moving too
+            slip_l, slip_r = speed_l >= speed_r, speed_r > speed_l
+        self._slip = (slip_l, slip_r)
+        slip = np.array(self._slip)
+        if self.kinematics.imu_axes_are_base:
+            mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
+            omega_w = rot.dot(base.omega)
+        else:
+            mujoco.mju_mat2Quat(self._quat, rot.dot(kin.base_rot).reshape(9))
+            omega_w = rot.dot(base.omega + kin.base_omega)
+        return EstimatedState(
+            base_pos=x_w[3],
+            base_quat=self._quat.copy(),
+            base_vel=v_w[3],
+            base_omega=omega_w,
+            q=q,
+            qd=qd,
+            contact=contact,
+            slip=slip,
+            foot_vel=v_w[0:2],
+            com=x_w[2],
+            com_vel=v_w[2],
+            cov_trace=base.cov_trace,
+        )

@@ -1,0 +1,322 @@
+"""Contact-aided invariant EKF with IMU biases (Hartley et al., RSS 2018 and IJRR 2020).
+
+State (world frame ``W``, IMU frame ``I``), a point of ``SE_4(3)`` plus the biases::
+
+    X = [[R, v, p, d_L, d_R], [0, I_4]],   theta = (b_g, b_a)
+    R: orientation of I in W;  v, p: IMU velocity and position;  d_L, d_R: stance contact points.
+
+Error: right-invariant ``eta = X X_hat^{-1} = Exp(xi)`` with ``xi = (xi_R, xi_v, xi_p, xi_dL, xi_dR)``
+(15,) and the bias error ``zeta = theta - theta_hat`` (6,): the 21-dim error of the "imperfect IEKF"
+(Hartley 2020, §V-B). IMU model ``w~ = w + b_g + n_g``, ``a~ = a + b_a + n_a`` (``a`` = specific force).
+
+Process (Hartley 2018, eqs. 4 and 21-23, with the bias columns of Hartley 2020, eq. 33)::
+
+    R+ = R Exp((w~ - b_g) dt),  v+ = v + (R (a~ - b_a) + g) dt,  p+ = p + v dt + (R (a~ - b_a) + g) dt^2/2
+    d/dt xi = A xi + Ad_X_hat n,       A = [[0,   0, 0, 0, -R      , 0 ],
+                                              [g^, 0, 0, 0, -v^ R   , -R],
+                                              [0,  I, 0, 0, -p^ R   , 0 ],
+                                              [0,  0, 0, 0, -d_i^ R , 0 ],
+                                              [0,  0, 0, 0,  0      , 0 ]]
+    Phi = I + A dt + [g^ dt^2/2 in (p, R)],   P+ = Phi P Phi^T + Q dt,
+    Q dt = dt (s_g^2 M M^T + diag(0, s_a^2 I, 0, s_c^2 I, s_c^2 I, s_bg^2 I, s_ba^2 I)),
+    M = [R; v^R; p^R; d_L^R; d_R^R] (the gyro-noise column of Ad_X, since R R^T = I).
+
+Measurement of a stance foot i (Hartley 2018, eq. 27, right-invariant form ``Y = X^{-1} b``)::
+
+    y = R^T (d_i - p) + n_y,   innovation z = R_hat y - (d_hat_i - p_hat) = xi_di - xi_p + R_hat n_y,
+    H = [0, 0, -I, I_(d_i), 0],  N = (var_i + foot_floor^2) I    (isotropic, so R N R^T = N),
+    K = P H^T (H P H^T + N)^{-1},  X+ = Exp(K z)[:15] X,  theta+ = theta + (K z)[15:],  P+ = (I - K H) P.
+
+A foot that touches down joins with ``d = p + R y`` and ``P_d* = P_p*``, ``P_dd = P_pp + N``
+(Hartley 2018, §VI-D); a foot that lifts off stops being measured (its rows no longer matter, which
+equals marginalising it). The state keeps a fixed size (21) so no array is reallocated per tick.
+
+Multi-rate: the mean follows the IMU every tick; the covariance is propagated with ``dt`` replaced by
+``Delta = correct_every dt`` (linearised at the state of the correcting tick), and the corrections and
+contact changes happen on those ticks only (``FilterTuning.correct_every``, docs/estimation.md).
+
+Flat feet (``flat_feet=True``, after Ramadoss et al., IROS 2022, "Comparing EKF-based estimators for
+humanoids with flat feet"): each stance sole also keeps its world orientation ``Z_i`` (error
+``Z = Exp(xi_Z) Z_hat``, random walk ``s_zr``), measured through the sole orientation ``R_f`` the
+kinematics give in the IMU frame::
+
+    R_f = R^T Z_i Exp(n_r),   z_r = Log(R_hat R_f Z_hat_i^T) = xi_Zi - xi_R + n_r,   H_r = [-I, .., I_(Z_i), ..]
+
+A sole that touches down joins with ``Z = R R_f`` and ``P_Z* = P_R*``. The error then has 27
+components (R, v, p, d_L, d_R, Z_L, Z_R, b_g, b_a). A flat sole makes the yaw-rate bias observable on
+one foot (a point contact does not: a yaw-rate bias and a velocity error move the predicted point
+alike, to first order).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+from scipy.linalg.lapack import dposv
+
+from gaitshift.control.estimation.lie import SKEW, exp_blocks, log_rot, quat_exp, quat_of_mat
+from gaitshift.control.estimation.tuning import FilterTuning
+from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading
+
+SYMMETRISE_EVERY = 16  # ticks between P <- (P + P^T) / 2 (round-off hygiene)
+
+
+def diagonal_view(a: np.ndarray) -> np.ndarray:
+    """Writable view (n,) of the diagonal of a square C-contiguous array (n, n)."""
+    n = a.shape[0]
+    return np.lib.stride_tricks.as_strided(a, shape=(n,), strides=((n + 1) * a.itemsize,))
+
+
+class _Pattern:
+    """Buffers of the correction for one set of measured feet: position rows (3 per foot), then,
+    with flat feet, orientation rows (3 per foot)."""
+
+    def __init__(self, measured: tuple[bool, bool], nx: int, flat: bool):
+        feet = [i for i in (0, 1) if measured[i]]
+        m = 3 * len(feet)
+        n = 2 * m if flat else m
+        self.ht = np.zeros((nx, n))  # H^T
+        for col, i in enumerate(feet):
+            for k in range(3):
+                self.ht[6 + k, 3 * col + k] = -1.0  # -xi_p
+                self.ht[9 + 3 * i + k, 3 * col + k] = 1.0  # +xi_di
+                if flat:
+                    self.ht[k, m + 3 * col + k] = -1.0  # -xi_R
+                    self.ht[15 + 3 * i + k, m + 3 * col + k] = 1.0  # +xi_Zi
+        self.h = np.ascontiguousarray(self.ht.T)
+        self.feet = feet
+        self.rows = slice(3 * feet[0], 3 * feet[-1] + 3)  # rows of a (6,) two-foot vector
+        pos_rep = np.repeat(feet, 3)
+        self.rep = np.concatenate([pos_rep, pos_rep + 2]) if flat else pos_rep  # index into [var, rot_var]
+        self.s = np.zeros((n, n))
+        self.s_diag = diagonal_view(self.s)
+        self.noise = np.zeros(n)  # measurement variances of these rows (set by the filter)
+
+
+class InvariantEKF:
+    """Right-invariant EKF on SE_4(3) with gyro and accelerometer biases (module docstring).
+
+    Args:
+        tuning: noise model (``FilterTuning``); defaults if None.
+        gravity: g, m/s^2 (world gravity is ``(0, 0, -g)``).
+        flat_feet: also keep and measure the stance soles' orientations (module docstring).
+    """
+
+    def __init__(self, tuning: FilterTuning | None = None, gravity: float = 9.81, flat_feet: bool = False):
+        self.tuning = t = tuning if tuning is not None else FilterTuning()
+        self.flat_feet = bool(flat_feet)
+        self.nx = nx = 27 if self.flat_feet else 21
+        self._ib = ib = nx - 6  # first bias index
+        self.gravity = np.array([0.0, 0.0, -gravity])
+        self._quat = np.array([1.0, 0.0, 0.0, 0.0])
+        self._rot9 = np.eye(3).ravel()
+        self.rot = self._rot9.reshape(3, 3)  # view, kept equal to the quaternion
+        # rows v, p, d_L, d_R, a_w (world); columns 0:3 the vectors, 3:6 the correction rho (rows 0:4)
+        self._buf = np.zeros((5, 6))
+        self._vec = self._buf[:, 0:3]
+        self._rho = self._buf[0:4, 3:6]
+        self._bias = np.zeros(6)  # b_g, b_a
+        self._bias_g, self._bias_a = self._bias[0:3], self._bias[3:6]
+        self._every = int(t.correct_every)
+        self._dc = 0.0
+        self._gravity_step = np.zeros((2, 3))
+        self._zquat = np.zeros((2, 4))  # stance-sole orientations Z_L, Z_R (flat feet)
+        self._zrot = np.zeros((2, 3, 3))
+        self._zrot9 = self._zrot.reshape(2, 9)
+        # covariance, bordered by the gyro-noise block: P_aug = [[P, 0], [0, s_g^2/dt I_3]]
+        self._cov_aug = np.zeros((nx + 3, nx + 3))
+        self.cov = self._cov_aug[0:nx, 0:nx]
+        self._cov_diag = diagonal_view(self._cov_aug)[0:nx]
+        # Phi bordered by the gyro-noise input column M dt (= the gyro-bias column of Phi)
+        self._phi = np.zeros((nx, nx + 3))
+        self._phi[:, 0:nx] = np.eye(nx)
+        self._phi_t = self._phi.T
+        self._phi_rot = self._phi[0:3, ib : ib + 3]  # -R dt
+        self._phi_skew = self._phi[3:15, ib : ib + 3].reshape(4, 3, 3)  # -x^ R dt for x = v, p, d_L, d_R
+        self._phi_acc = self._phi[3:6, ib + 3 : ib + 6]  # -R dt
+        self._phi_gyro = self._phi[0:15, ib : ib + 3]
+        self._phi_noise = self._phi[0:15, nx : nx + 3]
+        self._mean_step = np.zeros((2, 5))  # [v, p] <- mean_step @ [v, p, d_L, d_R, a_w]
+        self._dt = -1.0
+        self._qdiag = np.zeros(nx)
+        self._floor2 = np.array([t.foot_floor**2] * 2 + [t.foot_rot_floor**2] * 2)
+        self._in_state = [False, False]
+        self._ticks = 0
+        self._exp_mat = np.zeros((6, 3))  # [Exp(phi)^T ; J_l(phi)^T]
+        self._exp_flat = self._exp_mat.reshape(18)
+        self._dquat = np.empty(4)
+        self._zdquat = np.empty(4)
+        self._noise_of: np.ndarray | None = None  # the variance array the cached noise came from
+        keys = ((True, False), (False, True), (True, True))
+        self._patterns = {key: _Pattern(key, nx, self.flat_feet) for key in keys}
+        self.reset(np.eye(3), np.zeros(3))
+
+    # ------------------------------------------------------------------ set-up
+    def reset(
+        self,
+        rot: np.ndarray,
+        pos: np.ndarray,
+        vel: np.ndarray | None = None,
+        gyro_bias: np.ndarray | None = None,
+        accel_bias: np.ndarray | None = None,
+    ) -> None:
+        """Restart at IMU orientation ``rot`` (3, 3), position (3,), velocity (3,) and biases (3,);
+        the covariance restarts from the tuning's priors and no foot is in the state."""
+        t = self.tuning
+        self._quat[:] = quat_of_mat(rot)
+        mujoco.mju_quat2Mat(self._rot9, self._quat)
+        self._vec[0] = 0.0 if vel is None else vel
+        self._vec[1:4] = pos
+        self._bias[:3] = 0.0 if gyro_bias is None else gyro_bias
+        self._bias[3:] = 0.0 if accel_bias is None else accel_bias
+        var = np.concatenate(
+            [
+                [t.init_tilt_std**2] * 2 + [t.init_yaw_std**2],
+                [t.init_vel_std**2] * 3,
+                [t.init_pos_std**2] * 9,
+                [t.init_tilt_std**2] * (self.nx - 21),
+                [t.gyro_bias_std**2] * 3,
+                [t.accel_bias_std**2] * 3,
+            ]
+        )
+        self.cov[...] = np.diag(var)
+        self._in_state = [False, False]
+
+    def _set_dt(self, dt: float) -> None:
+        """Constant parts of the mean step (tick ``dt``) and of Phi and Q (correction period ``dc``)."""
+        t, phi, ib = self.tuning, self._phi, self._ib
+        dc = self._dc = dt * t.correct_every
+        g_hat = (self.gravity @ SKEW).reshape(3, 3)
+        phi[3:6, 0:3] = g_hat * dc
+        phi[6:9, 0:3] = 0.5 * dc * dc * g_hat
+        phi[6:9, 3:6] = np.eye(3) * dc
+        q = np.zeros(self.nx)
+        q[3:6] = t.accel_density**2
+        q[9:15] = t.contact_density**2
+        q[15:ib] = t.contact_rot_density**2
+        q[ib : ib + 3] = t.gyro_bias_walk**2
+        q[ib + 3 : ib + 6] = t.accel_bias_walk**2
+        self._qdiag = q * dc
+        # s_g^2 dc M M^T = (s_g^2 / dc) (M dc)(M dc)^T: the bordered product adds it
+        self._cov_aug[self.nx :, self.nx :] = np.eye(3) * t.gyro_density**2 / dc
+        self._mean_step[:] = [[1.0, 0.0, 0.0, 0.0, dt], [dt, 1.0, 0.0, 0.0, 0.5 * dt * dt]]
+        self._gravity_step = np.outer([dt, 0.5 * dt * dt], self.gravity)
+        self._dt = dt
+
+    # ------------------------------------------------------------------ tick
+    def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:
+        """Propagate the mean with the IMU over ``dt`` s; every ``correct_every`` ticks, propagate the
+        covariance over those ticks, correct with the stance feet and add touched-down feet."""
+        if dt != self._dt:
+            self._set_dt(dt)
+        omega = imu.gyro - self._bias_g
+        self._propagate_mean(omega, imu.accel - self._bias_a, dt)
+        self._ticks += 1
+        if self._ticks % self._every == 0:
+            self._propagate_cov()
+            left, right = bool(contact[0]), bool(contact[1])
+            was = self._in_state
+            measured = (left and was[0], right and was[1])
+            if measured[0] or measured[1]:
+                self._correct(feet, self._patterns[measured])
+            if (left and not was[0]) or (right and not was[1]):
+                self._add_contacts(feet, (left and not was[0], right and not was[1]))
+            self._in_state = [left, right]
+        vp = self._vec[0:2].copy()
+        b = self._bias.copy()
+        return BaseState(
+            rot=self.rot.copy(),
+            pos=vp[1],
+            vel=vp[0],
+            omega=omega,
+            gyro_bias=b[0:3],
+            accel_bias=b[3:6],
+            cov_trace=sum(self._cov_diag[0:9].tolist()),
+        )
+
+    def _propagate_mean(self, omega: np.ndarray, accel: np.ndarray, dt: float) -> None:
+        """``[v, p] <- [v + a_w dt, p + v dt + a_w dt^2 / 2]`` with ``a_w = R a + g``; ``R <- R Exp(w dt)``."""
+        vec = self._vec
+        np.dot(self.rot, accel, out=self._buf[4, 0:3])
+        vec[0:2] = self._mean_step.dot(vec) + self._gravity_step
+        mujoco.mju_quatIntegrate(self._quat, omega, dt)
+        mujoco.mju_quat2Mat(self._rot9, self._quat)
+
+    def _propagate_cov(self) -> None:
+        """``P <- Phi_aug P_aug Phi_aug^T + diag(Q) dc`` over the correction period ``dc``."""
+        dc = self._dc
+        np.multiply(self.rot, -dc, out=self._phi_rot)
+        self._phi_acc[...] = self._phi_rot
+        self._phi_skew[...] = self._vec[0:4].dot(SKEW).reshape(4, 3, 3).dot(self._phi_rot)
+        self._phi_noise[...] = self._phi_gyro
+        cov = self._phi.dot(self._cov_aug).dot(self._phi_t)
+        if self._ticks % (SYMMETRISE_EVERY * self._every) == 0:
+            cov += cov.T
+            cov *= 0.5
+        self.cov[...] = cov
+        self._cov_diag += self._qdiag
+
+    def _correct(self, feet: FootKinematics, pat: _Pattern) -> None:
+        vec, cov = self._vec, self.cov
+        z2 = feet.pos.dot(self.rot.T)  # R y - (d - p), both feet
+        z2 -= vec[2:4]
+        z2 += vec[1]
+        z = z2.reshape(6)[pat.rows]
+        if self.flat_feet:  # Log(R R_f Z^T) of the measured feet
+            err = np.matmul(np.matmul(self.rot, feet.rot), self._zrot.transpose(0, 2, 1)).reshape(2, 9).tolist()
+            z = np.concatenate([z, [c for i in pat.feet for c in log_rot(err[i])]])
+        pht = cov.dot(pat.ht)
+        s = pat.s
+        np.dot(pat.h, pht, out=s)
+        if feet.var is not self._noise_of:  # kinematics refresh their variances every few ticks
+            self._noise_of = feet.var
+            noise = np.concatenate((feet.var, feet.rot_var)) if self.flat_feet else feet.var
+            noise = noise + self._floor2[0 : noise.size]
+            for p in self._patterns.values():
+                p.noise = noise[p.rep]
+        pat.s_diag += pat.noise
+        _, kt, info = dposv(s, pht.T)  # kt = S^{-1} H P = K^T
+        if info != 0:  # S not positive definite: skip this correction
+            return
+        cov -= pht.dot(kt)
+        self._apply(z.dot(kt))
+
+    def _apply(self, delta: np.ndarray) -> None:
+        """``X <- Exp(delta[:15]) X``, ``Z_i <- Exp(delta_Zi) Z_i``, ``theta <- theta + delta[ib:]``::
+
+        [v, p, d_L, d_R]^T <- [[v, p, d_L, d_R]^T, rho] @ [Exp(phi)^T; J_l(phi)^T]   (lie.exp_blocks)."""
+        x, y, z = delta[0:3].tolist()
+        blocks, self._dquat[:] = exp_blocks(x, y, z)
+        self._exp_flat[:] = blocks
+        self._rho[...] = delta[3:15].reshape(4, 3)
+        self._vec[0:4] = self._buf[0:4].dot(self._exp_mat)
+        mujoco.mju_mulQuat(self._quat, self._dquat, self._quat)
+        mujoco.mju_normalize4(self._quat)
+        mujoco.mju_quat2Mat(self._rot9, self._quat)
+        if self.flat_feet:
+            dz = delta[15:21].tolist()
+            for i in (0, 1):
+                if self._in_state[i]:
+                    self._zdquat[:] = quat_exp(dz[3 * i], dz[3 * i + 1], dz[3 * i + 2])
+                    mujoco.mju_mulQuat(self._zquat[i], self._zdquat, self._zquat[i])
+                    mujoco.mju_normalize4(self._zquat[i])
+                    mujoco.mju_quat2Mat(self._zrot9[i], self._zquat[i])
+        self._bias += delta[self._ib : self._ib + 6]
+
+    def _add_contacts(self, feet: FootKinematics, new: tuple[bool, bool]) -> None:
+        cov, vec, t = self.cov, self._vec, self.tuning
+        for i in (0, 1):
+            if not new[i]:
+                continue
+            j = 9 + 3 * i
+            vec[2 + i] = vec[1] + self.rot @ feet.pos[i]
+            cov[j : j + 3, :] = cov[6:9, :]
+            cov[:, j : j + 3] = cov[:, 6:9]
+            cov[j : j + 3, j : j + 3] += np.eye(3) * (feet.var[i] + t.foot_floor**2)
+            if self.flat_feet:
+                j = 15 + 3 * i
+                self._zrot[i] = self.rot @ feet.rot[i]
+                mujoco.mju_mat2Quat(self._zquat[i], self._zrot9[i])
+                cov[j : j + 3, :] = cov[0:3, :]
+                cov[:, j : j + 3] = cov[:, 0:3]
+                cov[j : j + 3, j : j + 3] += np.eye(3) * (feet.rot_var[i] + t.foot_rot_floor**2)

@@ -1,0 +1,168 @@
+"""Leg kinematics seen from the IMU: soles, CoM and base in the IMU frame, from joint angles only.
+
+The estimator owns a PRIVATE ``MjData`` of the robot model with the free joint at identity, so the
+MuJoCo world frame of that data is the base frame ``B``. Per tick, for joint angles ``q`` and velocities
+``qd``: ``mj_kinematics`` and ``mj_comPos`` give each point ``x_B`` (sole sites, whole-body CoM
+``subtree_com[root]``) and ``mj_jacSite``/``mj_jacSubtreeCom`` its Jacobian ``J_B`` (joint columns).
+With the IMU site at ``(p_S, R_S)`` in ``B`` and ``w_S = R_S^T J_rot,S qd`` its angular velocity::
+
+    y = R_S^T (x_B - p_S)                                           (position in the IMU frame)
+    dy/dt = R_S^T (J_B - J_S) qd + y x w_S                          (velocity relative to the IMU)
+
+(for an IMU on the base, ``J_S = 0`` and ``w_S = 0``). The sole-position noise from encoder noise
+``s_q`` is ``J Sigma_q J^T``; the filters get its isotropic equivalent ``s_q^2 |J|_F^2 / 3`` per foot
+(and the same with the rotational Jacobian for the sole orientation ``R_S^T R_sole``), refreshed every
+``VAR_EVERY`` ticks.
+The simulator's ``MjData`` is never touched.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from gaitshift.control.estimation.types import FootKinematics
+from gaitshift.errors import InputError
+
+VAR_EVERY = 8  # ticks between refreshes of the encoder-noise variance of the soles (J changes slowly)
+
+
+@dataclass(frozen=True, slots=True)
+class BodyKinematics:
+    """Everything the joints tell about the robot, in the IMU frame (one tick).
+
+    Attributes:
+        feet: the two soles (:class:`FootKinematics`; its arrays are views of ``points``).
+        points: (4, 3) [left sole, right sole, whole-body CoM, base origin], m.
+        points_vel: (4, 3) their velocities relative to the IMU frame, m/s.
+        base_rot: (3, 3) base orientation in the IMU frame.
+        base_omega: (3,) base angular velocity relative to the IMU frame, rad/s.
+    """
+
+    feet: FootKinematics
+    points: np.ndarray
+    points_vel: np.ndarray
+    base_rot: np.ndarray
+    base_omega: np.ndarray
+
+
+class LegKinematics:
+    """Sole and CoM kinematics of a floating-base MuJoCo model, in the IMU frame (module docstring).
+
+    Args:
+        model: ``mujoco.MjModel`` with one free joint (first) and hinge/slide joints.
+        imu_site: name of the IMU site.
+        sole_sites: (left, right) names of the sole-centre sites.
+        encoder_std: std of one joint-position reading, rad.
+    """
+
+    def __init__(self, model: Any, imu_site: str, sole_sites: tuple[str, str], encoder_std: float = 0.0):
+        free = [j for j in range(model.njnt) if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE)]
+        if len(free) != 1 or model.jnt_qposadr[free[0]] != 0:
+            raise InputError("model", "MjModel", "a floating-base model (one free joint, first in qpos)")
+        if model.nq != model.nv + 1:
+            raise InputError("model", "MjModel", "hinge or slide joints besides the free joint")
+        self.model = model
+        self.data = mujoco.MjData(model)  # private: never the simulator's data
+        self.n_joints = model.nv - 6
+        self.encoder_std = float(encoder_std)
+        self._imu = self._site(imu_site, "imu_site")
+        self._soles = tuple(self._site(s, "sole_sites") for s in sole_sites)
+        self._root = int(model.jnt_bodyid[free[0]])
+        self.mass = float(model.body_subtreemass[self._root])
+        self.imu_on_base = int(model.site_bodyid[self._imu]) == self._root
+        self._jac = np.zeros((12, model.nv))  # sole L, sole R, CoM, base origin (zero) Jacobians
+        self._jac_imu = np.zeros((3, model.nv))
+        self._jac_imu_rot = np.zeros((3, model.nv))
+        self._pts = np.zeros((4, 3))  # row 3: the base origin, fixed at 0 in the base frame
+        self._sole_ids = np.array(self._soles)
+        self._pts_soles = self._pts[0:2]
+        self._jac_rows = tuple(self._jac[3 * i : 3 * i + 3] for i in range(3))
+        self._qvel = np.zeros(model.nv)
+        self._jacr = np.zeros((6, model.nv))  # rotational Jacobians of the soles
+        self._jacr_rows = (self._jacr[0:3], self._jacr[3:6])
+        self._rot_var = np.zeros(2)
+        self._site_xpos = self.data.site_xpos  # views into the private MjData (fixed buffers)
+        self._site_xmat = self.data.site_xmat
+        self._com_view = self.data.subtree_com[self._root]
+        self._ticks = 0
+        self._var = np.zeros(2)
+        self.data.qpos[:] = model.qpos0
+        self.data.qpos[:7] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
+        self._qpos = self.data.qpos
+        mujoco.mj_kinematics(model, self.data)
+        self._set_base_constants()
+
+    def _site(self, name: str, field: str) -> int:
+        sid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_SITE, name)
+        if sid < 0:
+            names = [self.model.site(i).name for i in range(self.model.nsite)]
+            raise InputError(field, name, "a site of the model: " + ", ".join(names))
+        return int(sid)
+
+    @classmethod
+    def from_robot(cls, robot: Any, imu_site: str = "imu_in_pelvis", encoder_std: float = 0.0) -> LegKinematics:
+        """Kinematics of a :class:`gaitshift.robots.RobotConfig` (its sole sites), IMU at ``imu_site``."""
+        return cls(robot.model(), imu_site, robot.SOLE_SITES, encoder_std)
+
+    def compute(self, q: np.ndarray, qd: np.ndarray) -> BodyKinematics:
+        """Kinematics at joint angles ``q`` (nj,) rad and velocities ``qd`` (nj,) rad/s."""
+        m, d, jac = self.model, self.data, self._jac
+        self._qpos[7:] = q
+        self._qvel[6:] = qd
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        mujoco.mj_jacSite(m, d, self._jac_rows[0], self._jacr_rows[0], self._soles[0])
+        mujoco.mj_jacSite(m, d, self._jac_rows[1], self._jacr_rows[1], self._soles[1])
+        mujoco.mj_jacSubtreeCom(m, d, self._jac_rows[2], self._root)
+        pts = self._pts
+        self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
+        pts[2] = self._com_view
+        vel = jac.dot(self._qvel).reshape(4, 3)  # free-joint columns meet zeros
+        self._ticks += 1
+        if self._ticks % VAR_EVERY == 1:
+            scale = self.encoder_std**2 / 3.0
+            self._var = scale * np.square(jac[0:6, 6:]).reshape(2, -1).sum(axis=1)
+            self._rot_var = scale * np.square(self._jacr[:, 6:]).reshape(2, -1).sum(axis=1)
+        rot = self._site_xmat.take(self._sole_ids, axis=0).reshape(2, 3, 3)
+        if not self.imu_axes_are_base:
+            rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, rot)
+        if not self.imu_on_base:
+            y, ydot, base_rot, base_omega = self._relative_to_moving_imu(pts, vel, qd)
+        elif self.imu_axes_are_base:
+            y, ydot, base_rot, base_omega = pts - self._p_s, vel, self._base_rot, self._zero
+        else:
+            y, ydot, base_rot, base_omega = (
+                (pts - self._p_s).dot(self._rot_s),
+                vel.dot(self._rot_s),
+                self._base_rot,
+                self._zero,
+            )
+        feet = FootKinematics(pos=y[0:2], vel=ydot[0:2], var=self._var, rot=rot, rot_var=self._rot_var)
+        return BodyKinematics(feet, y, ydot, base_rot, base_omega)
+
+    def _set_base_constants(self) -> None:
+        """IMU site pose in the base frame (constant for an IMU on the base)."""
+        d = self.data
+        self._rot_s = d.site_xmat[self._imu].reshape(3, 3).copy()
+        self._p_s = d.site_xpos[self._imu].copy()
+        self._base_rot = self._rot_s.T.copy()
+        #: the IMU sits on the base with the base's axes (then base_rot = I and the IMU omega is the base's)
+        self.imu_axes_are_base = self.imu_on_base and bool(np.allclose(self._rot_s, np.eye(3), atol=1e-12))
+        self._zero = np.zeros(3)
+
+    def _relative_to_moving_imu(
+        self, pts: np.ndarray, vel: np.ndarray, qd: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Points and velocities in an IMU frame that moves with the joints (e.g. a torso IMU)."""
+        m, d = self.model, self.data
+        mujoco.mj_jacSite(m, d, self._jac_imu, self._jac_imu_rot, self._imu)
+        rot_s = d.site_xmat[self._imu].reshape(3, 3).copy()
+        p_s = d.site_xpos[self._imu].copy()
+        w_s = rot_s.T @ (self._jac_imu_rot[:, 6:] @ qd)  # IMU angular velocity, IMU frame
+        y = (pts - p_s) @ rot_s
+        ydot = (vel - self._jac_imu[:, 6:] @ qd) @ rot_s + np.cross(y, w_s)
+        return y, ydot, rot_s.T.copy(), -w_s

@@ -1,0 +1,101 @@
+"""Step-level feedback of TV-LIPM plans: capture-point foothold corrections and the plan shift.
+
+While a foot swings (until ``freeze_u`` of its swing) its target is moved by the foothold correction
+
+    delta = k_cp (xi - xi_ref),    xi = c + cd / omega,    omega = sqrt(g / h)
+
+(xi: the divergent component of motion, or instantaneous capture point, of the LIPM; h the plan's CoM
+height), horizontal, clipped to ``max_step_adjust`` per axis, with ``xi`` measured and ``xi_ref``
+that of the shifted plan. When the foot lands, the whole remaining plan (CoM reference and later
+footholds) is translated by its correction, blended in with the first-order lag
+``shift' = (target - shift) / shift_time`` (one explicit Euler step per tick): the plan is
+re-anchored on where the robot actually stands, as the LIPM is translation invariant.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class CaptureSettings:
+    """Gain and limits of the capture-point step feedback (see module docstring); ``gain`` 0 turns
+    it off."""
+
+    gain: float = 1.0
+    freeze_u: float = 0.7  # swing progress after which the foothold correction is frozen
+    shift_time: float = 0.1  # s: time constant of the plan shift after a corrected touchdown
+    max_step_adjust: float = 0.10  # m
+
+
+def capture_point_offset(
+    com: np.ndarray,
+    com_vel: np.ndarray,
+    com_ref: np.ndarray,
+    vel_ref: np.ndarray,
+    omega: float,
+    gain: float,
+    limit: float,
+) -> np.ndarray:
+    """Foothold correction (3,) m = gain (xi - xi_ref), xi = c + cd / omega (horizontal components of
+    the CoM position ``com`` (3,) m and velocity ``com_vel`` (3,) m/s, and of their references), z = 0,
+    clipped to ``limit`` (m) per axis. ``omega`` = sqrt(g / h), 1/s."""
+    xi = com[:2] + com_vel[:2] / omega
+    xi_ref = com_ref[:2] + vel_ref[:2] / omega
+    out = np.zeros(3)
+    out[:2] = np.clip(gain * (xi - xi_ref), -limit, limit)
+    return out
+
+
+class PlanShift:
+    """State of the step feedback: the plan translation and the current foothold corrections.
+
+    Attributes:
+        shift: (3,) m, translation of the plan applied now (lags behind ``target``).
+        target: (3,) m, sum of the corrections of the feet that have landed.
+        offset: (2, 3) m, correction of each swinging foot's target (0 for a stance foot).
+    """
+
+    def __init__(self, settings: CaptureSettings, omega: float) -> None:
+        self.settings = settings
+        self.omega = omega
+        self.shift = np.zeros(3)
+        self.target = np.zeros(3)
+        self.offset = np.zeros((2, 3))
+
+    def land(self, landed: np.ndarray) -> None:
+        """Feet ``landed`` (2,) bool have just touched down: their corrections join the plan shift."""
+        for s in (0, 1):
+            if landed[s]:
+                self.target += self.offset[s]
+                self.offset[s] = 0.0
+
+    def blend(self, dt: float) -> None:
+        """One step ``dt`` (s) of the lag of ``shift`` toward ``target``."""
+        self.shift += (self.target - self.shift) * min(1.0, dt / self.settings.shift_time)
+
+    def correct_swings(
+        self,
+        stance: np.ndarray,
+        progress: np.ndarray,
+        com: np.ndarray,
+        com_vel: np.ndarray,
+        com_plan: np.ndarray,
+        vel_plan: np.ndarray,
+    ) -> None:
+        """Recompute the correction of each swinging foot before ``freeze_u`` of its swing.
+
+        ``stance`` (2,) bool: feet in stance (left alone); ``progress`` (2,): swing progress u of each
+        foot (:meth:`gaitshift.control.schedule.FootScheduler.swing_progress`). ``com``/``com_vel``
+        measured, ``com_plan``/``vel_plan`` the plan sample (unshifted), all (3,).
+        """
+        cfg = self.settings
+        if cfg.gain <= 0:
+            return
+        for s in (0, 1):
+            if not stance[s] and progress[s] < cfg.freeze_u:
+                self.offset[s] = capture_point_offset(
+                    com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain, cfg.max_step_adjust
+                )

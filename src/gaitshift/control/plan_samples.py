@@ -1,0 +1,59 @@
+"""Per-sample references derived once from a plan, for the foot scheduler and the tick reference."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from gaitshift.trajectory.contract import Trajectory
+
+
+@dataclass(frozen=True)
+class PlanSamples:
+    """What the closed loop needs from a plan beyond its own arrays.
+
+    Attributes:
+        foot_vel, foot_acc: (N, 2, 3) sole-centre velocity (m/s) and acceleration (m/s^2), central
+            differences (``np.gradient``) of ``traj.foot_pos``.
+        yaw: (N, 2) rad, yaw of each foot (the plan's ``foot_yaw``); heading: (N,) rad, the plan's
+            heading (the torso's and pelvis' yaw reference).
+        yaw_rate: (N, 2) rad/s and heading_rate: (N,) rad/s, their central differences (of the
+            unwrapped angles): the velocity references of the orientation tasks, so that a turn at a
+            constant rate is tracked without the PD's steady lag ``kd/kp * rate``.
+        lift, land: per foot (left, right), the plan times (s) of its lift-offs and touchdowns
+            (first sample after the contact flag changes), increasing.
+    """
+
+    foot_vel: np.ndarray
+    foot_acc: np.ndarray
+    yaw: np.ndarray
+    heading: np.ndarray
+    yaw_rate: np.ndarray
+    heading_rate: np.ndarray
+    lift: tuple[np.ndarray, np.ndarray]
+    land: tuple[np.ndarray, np.ndarray]
+
+    @classmethod
+    def from_trajectory(cls, traj: Trajectory) -> PlanSamples:
+        """Derive the samples of ``traj`` (see the class docstring)."""
+        dt = traj.dt
+        fp = traj.foot_pos
+        fv = np.gradient(fp, dt, axis=0)
+        fa = np.gradient(fv, dt, axis=0)
+        c = traj.contact
+        t = traj.t
+        lift = (t[1:][c[:-1, 0] & ~c[1:, 0]], t[1:][c[:-1, 1] & ~c[1:, 1]])
+        land = (t[1:][~c[:-1, 0] & c[1:, 0]], t[1:][~c[:-1, 1] & c[1:, 1]])
+        yaw_rate = np.gradient(np.unwrap(traj.foot_yaw, axis=0), dt, axis=0) if len(t) > 1 else np.zeros((len(t), 2))
+        heading_rate = np.gradient(np.unwrap(traj.heading), dt) if len(t) > 1 else np.zeros(len(t))
+        return cls(
+            foot_vel=fv,
+            foot_acc=fa,
+            yaw=traj.foot_yaw,
+            heading=traj.heading,
+            yaw_rate=yaw_rate,
+            heading_rate=heading_rate,
+            lift=lift,
+            land=land,
+        )

@@ -1,0 +1,1 @@
+"""Gait: footholds, contact phases with their stiffness, and swing-foot paths."""

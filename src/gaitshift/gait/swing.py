@@ -1,0 +1,108 @@
+"""Swing-foot trajectories: smooth polynomials from lift-off to touchdown.
+
+Horizontal position and yaw follow a quintic ("minimum-jerk") blend ``s(u) = 10u^3 - 15u^4 + 6u^5``,
+u = (t - t0)/(t1 - t0) in [0, 1], with zero velocity and acceleration at both ends. Height follows the
+sextic polynomial of paper 003 (§3.3) with seven conditions: z(0) = z0, z(1) = z1, zero velocity and
+acceleration at both ends, and z(1/2) = max(z0, z1) + clearance (the apex).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import numpy.typing as npt
+
+from gaitshift.models.arrays import FloatArray, FloatLike
+from gaitshift.models.sextic import SEXTIC_INVERSE
+
+BoolArray = npt.NDArray[np.bool_]
+IntArray = npt.NDArray[np.int8]
+
+
+def min_jerk(u: FloatArray) -> FloatArray:
+    """Blend s(u) = 10u^3 - 15u^4 + 6u^5, shape of ``u``; s(0)=0, s(1)=1, s', s'' zero at both ends."""
+    u = np.clip(u, 0.0, 1.0)
+    return u**3 * (10.0 + u * (-15.0 + 6.0 * u))
+
+
+def sextic_height_coefficients(z0: FloatLike, z1: FloatLike, apex: FloatLike) -> FloatArray:
+    """Coefficients a_0..a_6 (in u) of the sextic with z(0)=z0, z(1)=z1, z(1/2)=apex and zero
+    velocity and acceleration at u=0 and u=1. Inputs broadcast; output shape (..., 7).
+
+    With a_0 = z0 and a_1 = a_2 = 0, the remaining four coefficients solve the fixed 4x4 system of
+    :mod:`gaitshift.models.sextic` (rhs ``[z1 - z0, 0, 0, apex - z0]``).
+    """
+    z0, z1, apex = np.broadcast_arrays(np.asarray(z0, float), np.asarray(z1, float), np.asarray(apex, float))
+    # a3..a6 = M^-1 [z1 - z0, 0, 0, apex - z0]: only columns 0 and 3 of M^-1 matter
+    a36 = (z1 - z0)[..., None] * SEXTIC_INVERSE[:, 0] + (apex - z0)[..., None] * SEXTIC_INVERSE[:, 3]
+    zeros = np.zeros_like(z0)[..., None]
+    return np.concatenate([z0[..., None], zeros, zeros, a36], axis=-1)
+
+
+def swing_path(start: FloatArray, end: FloatArray, clearance: float, u: FloatArray) -> FloatArray:
+    """Foot position along a swing from ``start`` to ``end`` (each (3,) or (K, 3)) at phases ``u``.
+
+    Args:
+        start: lift-off sole position, m, shape (3,) or broadcastable to (len(u), 3).
+        end: touchdown sole position, m, same shape rules.
+        clearance: apex height above the higher of the two soles, m.
+        u: normalised time in [0, 1], shape (K,).
+
+    Returns:
+        Positions, shape (K, 3).
+    """
+    u = np.clip(np.asarray(u, float), 0.0, 1.0)
+    start = np.broadcast_to(np.asarray(start, float), (len(u), 3))
+    end = np.broadcast_to(np.asarray(end, float), (len(u), 3))
+    s = min_jerk(u)[:, None]
+    out = start + (end - start) * s
+    apex = np.maximum(start[:, 2], end[:, 2]) + clearance
+    coef = sextic_height_coefficients(start[:, 2], end[:, 2], apex)
+    powers = u[:, None] ** np.arange(7)
+    out[:, 2] = np.sum(coef * powers, axis=1)
+    return out
+
+
+def foot_yaws(contact: BoolArray, foot_pos: FloatArray, footsteps: FloatArray, side_of: IntArray) -> FloatArray:
+    """Yaw of each sole over a plan, (N, 2) rad, from its contact flags (N, 2), sole centres (N, 2, 3)
+    and footholds (M, 4) x, y, z, yaw with their sides (M,).
+
+    Each contact interval takes the yaw of the foothold (same side) nearest to the sole; each swing
+    blends the yaws of the contacts around it with the minimum-jerk profile :func:`min_jerk` (the same
+    blend as the swing position), the shorter way round.
+    """
+    n = len(contact)
+    out = np.zeros((n, 2))
+    for side in (0, 1):
+        steps = footsteps[side_of == side]
+        if len(steps) == 0:
+            continue
+        c = contact[:, side].astype(np.int8)
+        bounds = np.concatenate([[0], np.flatnonzero(np.diff(c)) + 1, [n]])
+        kinds = [bool(c[a]) for a in bounds[:-1]]
+        yaws = [
+            float(steps[np.argmin(np.linalg.norm(steps[:, :2] - foot_pos[a, side, :2], axis=1)), 3]) if k else math.nan
+            for a, k in zip(bounds[:-1], kinds, strict=True)
+        ]
+        known = [y for y in yaws if not math.isnan(y)]
+        default = known[0] if known else 0.0
+        for i, (a, b) in enumerate(itertools.pairwise(bounds)):
+            if kinds[i]:
+                out[a:b, side] = yaws[i]
+                continue
+            before = next((yaws[j] for j in range(i - 1, -1, -1) if kinds[j]), None)
+            after = next((yaws[j] for j in range(i + 1, len(yaws)) if kinds[j]), None)
+            y0 = before if before is not None else (after if after is not None else default)
+            y1 = after if after is not None else y0
+            y1 = y0 + (y1 - y0 + math.pi) % (2 * math.pi) - math.pi
+            u = (np.arange(a, b) - a + 1) / (b - a + 1)
+            out[a:b, side] = y0 + (y1 - y0) * min_jerk(u)
+    return out
+
+
+def mid_heading(foot_yaw: FloatArray) -> FloatArray:
+    """The heading between the two soles, (N,) rad: the left yaw plus half the (wrapped) difference."""
+    d = (foot_yaw[:, 1] - foot_yaw[:, 0] + math.pi) % (2 * math.pi) - math.pi
+    return np.asarray(foot_yaw[:, 0] + 0.5 * d, dtype=np.float64)

@@ -1,0 +1,180 @@
+"""Swing feet that can be re-targeted mid-swing, with analytic velocity and acceleration.
+
+Horizontal position and yaw follow a quintic in normalised time ``u`` from a start state
+``(q0, q0', q0'')`` to the target ``(q1, 0, 0)``::
+
+    q(u) = q0 + V u + A/2 u^2 + (10 D - 6 V - 3/2 A) u^3 + (-15 D + 8 V + 3/2 A) u^4 + (6 D - 3 V - 1/2 A) u^5
+
+with ``D = q1 - q0``, ``V = q0' L``, ``A = q0'' L^2`` and L the remaining duration. From rest it is
+the minimum-jerk blend of :mod:`gaitshift.gait.swing`. A re-target at sample i starts a new quintic
+from the current state, so the foot reference stays C2. The height follows the sextic of paper 003
+(:func:`gaitshift.gait.swing.sextic_height_coefficients`): zero velocity and acceleration at
+lift-off and touchdown, apex ``clearance`` above the higher end at mid-swing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from gaitshift.gait.swing import sextic_height_coefficients
+
+__all__ = ["FootTrack", "Swing"]
+
+Array = npt.NDArray[np.float64]
+
+
+def _quintic(q0: Array, v0: Array, a0: Array, q1: Array, L: float) -> Array:
+    """Coefficients (6, k) in u of the quintic from (q0, v0, a0) (per second) to (q1, 0, 0) over L s."""
+    D, V, A = q1 - q0, v0 * L, a0 * L * L
+    return np.array([q0, V, 0.5 * A, 10 * D - 6 * V - 1.5 * A, -15 * D + 8 * V + 1.5 * A, 6 * D - 3 * V - 0.5 * A])
+
+
+def _powers(u: Array, degree: int) -> Array:
+    """Rows [1, u, ..., u^degree] (n, degree + 1) by repeated products (cheaper than ``np.vander``)."""
+    out = np.empty((len(u), degree + 1))
+    out[:, 0] = 1.0
+    out[:, 1] = u
+    for k in range(2, degree + 1):
+        np.multiply(out[:, k - 1], u, out=out[:, k])
+    return out
+
+
+#: columns of the stacked quintic (x, y, yaw; rates; accelerations) and of the sextic (z, z', z'') in
+#: the (n, 12) output, ordered (x, y, z, yaw) x (pose, rate, acceleration)
+_H_COLS = np.array([0, 1, 3, 4, 5, 7, 8, 9, 11])
+_Z_COLS = np.array([2, 6, 10])
+
+
+def _stacked(coef: Array, L: float) -> Array:
+    """(d+1, 3k) matrix whose product with the Vandermonde rows [1, u, ..., u^d] gives the values, the
+    time derivatives (1/L d/du) and the second time derivatives (1/L^2 d2/du2) of the polynomials
+    ``coef`` (d+1, k) in normalised time u = t / L, side by side."""
+    d = len(coef) - 1
+    k = np.arange(1, d + 1, dtype=np.float64)
+    d1 = np.zeros_like(coef)
+    d2 = np.zeros_like(coef)
+    d1[:d] = coef[1:] * k[:, None] / L
+    d2[: d - 1] = coef[2:] * (k[1:] * k[:-1])[:, None] / L**2
+    return np.hstack([coef, d1, d2])
+
+
+@dataclass
+class Swing:
+    """One swing from sample ``i_lift`` (first sample off the ground) to ``i_land`` (first sample on
+    the target). ``start`` and ``end`` are (x, y, z, yaw); times in samples of ``dt`` s."""
+
+    i_lift: int
+    i_land: int
+    start: Array
+    end: Array
+    dt: float
+    clearance: float
+    i_ref: int = 0
+    coef: Array = field(default_factory=lambda: np.zeros((6, 3)))
+    zcoef: Array = field(default_factory=lambda: np.zeros(7))
+    _key: tuple[int, int] = (-1, -1)
+    _hs: Array = field(default_factory=lambda: np.zeros((6, 12)))
+    _zs: Array = field(default_factory=lambda: np.zeros((7, 12)))
+
+    def __post_init__(self) -> None:
+        self.i_ref = self.i_lift
+        L = (self.i_land - self.i_lift) * self.dt
+        zero = np.zeros(3)
+        self.coef = _quintic(self.start[[0, 1, 3]], zero, zero, self.end[[0, 1, 3]], L)
+        apex = max(self.start[2], self.end[2]) + self.clearance
+        self.zcoef = sextic_height_coefficients(np.array(self.start[2]), np.array(self.end[2]), np.array(apex))
+
+    def retarget(self, i: int, end: Array) -> None:
+        """Aim at ``end`` (x, y, z, yaw) from sample ``i`` on, keeping position, velocity and
+        acceleration at ``i``. The height profile keeps its lift-off and touchdown heights."""
+        if i >= self.i_land:
+            return
+        i = max(i, self.i_lift)
+        p, v, a = self.evaluate(np.array([i]))
+        L = (self.i_land - i) * self.dt
+        self.coef = _quintic(p[0, [0, 1, 3]], v[0, [0, 1, 3]], a[0, [0, 1, 3]], end[[0, 1, 3]], L)
+        self.i_ref = i
+        self._key = (-1, -1)
+        self.end = np.array(end, dtype=np.float64)
+
+    def evaluate(self, idx: Array) -> tuple[Array, Array, Array]:
+        """(x, y, z, yaw), their rates and accelerations at sample indices ``idx`` (n,): (n, 4) each."""
+        idx = np.asarray(idx, dtype=np.float64)
+        Lh = (self.i_land - self.i_ref) * self.dt
+        Lz = (self.i_land - self.i_lift) * self.dt
+        uh = np.clip((idx - self.i_ref) * self.dt / Lh, 0.0, 1.0)
+        uz = np.clip((idx - self.i_lift) * self.dt / Lz, 0.0, 1.0)
+        if self._key != (self.i_ref, self.i_land):  # the stacked coefficients of the current quintic
+            self._key = (self.i_ref, self.i_land)
+            self._hs, self._zs = np.zeros((6, 12)), np.zeros((7, 12))
+            self._hs[:, _H_COLS] = _stacked(self.coef, Lh)
+            self._zs[:, _Z_COLS] = _stacked(self.zcoef[:, None], Lz)
+        pz = _powers(uz, 6)
+        ph = pz[:, :6] if self.i_ref == self.i_lift else _powers(uh, 5)
+        out = (ph @ self._hs + pz @ self._zs).reshape(len(idx), 3, 4)
+        pos, vel, acc = out[:, 0], out[:, 1], out[:, 2]
+        done = idx >= self.i_land
+        if done.any():
+            pos[done], vel[done], acc[done] = self.end, 0.0, 0.0
+        return pos, vel, acc
+
+
+@dataclass
+class FootTrack:
+    """One foot over time: where it rests (x, y, z, yaw) and its swings (past ones pruned)."""
+
+    rest: Array
+    swings: list[Swing] = field(default_factory=list)
+
+    def active(self, i: int) -> Swing | None:
+        """The swing in the air at sample ``i`` (lift-off <= i < touchdown), if any."""
+        for sw in self.swings:
+            if sw.i_lift <= i < sw.i_land:
+                return sw
+        return None
+
+    def pending(self, i: int) -> Swing | None:
+        """The swing that has not touched down by sample ``i`` (in the air or still to lift)."""
+        for sw in self.swings:
+            if i < sw.i_land:
+                return sw
+        return None
+
+    def landed(self, i: int) -> Array:
+        """The resting pose (x, y, z, yaw) at sample ``i``: the end of the last swing touched down by
+        then, or the rest pose (valid when no swing is in the air at ``i``)."""
+        pose = self.rest
+        for sw in self.swings:
+            if sw.i_land > i:
+                break
+            pose = sw.end
+        return pose
+
+    def evaluate(self, a: int, b: int, out: tuple[Array, Array, Array] | None = None) -> tuple[Array, Array, Array]:
+        """Pose (x, y, z, yaw), rates and accelerations at samples a..b-1: (b-a, 4) each (written into
+        ``out`` if given)."""
+        n = b - a
+        pos, vel, acc = out if out is not None else (np.empty((n, 4)), np.empty((n, 4)), np.empty((n, 4)))
+        pos[:] = self.rest
+        vel[:] = 0.0
+        acc[:] = 0.0
+        for sw in self.swings:
+            if sw.i_land <= a:
+                pos[:] = sw.end
+                continue
+            lo = max(sw.i_lift, a)
+            if lo >= b:
+                break
+            hi = min(sw.i_land, b)
+            p, v, ac = sw.evaluate(np.arange(lo, hi, dtype=np.float64))
+            pos[lo - a : hi - a], vel[lo - a : hi - a], acc[lo - a : hi - a] = p, v, ac
+            pos[hi - a :], vel[hi - a :], acc[hi - a :] = sw.end, 0.0, 0.0
+        return pos, vel, acc
+
+    def prune(self, i: int) -> None:
+        """Forget swings that touched down before sample ``i``; the last one's end is the rest."""
+        while self.swings and self.swings[0].i_land <= i:
+            self.rest = self.swings.pop(0).end

@@ -1,0 +1,80 @@
+"""The keys of a robot YAML file (validated with pydantic; unknown keys are errors).
+
+=====================  ========================================================================
+``name``               short name, e.g. ``g1``
+``mjcf``               ``asset:<path>`` (inside the PyPI package envpool-assets-mujoco-playground-
+                       humanoid, located offline with its ``asset_path()``), an absolute path, or a
+                       path relative to the YAML file
+``soles``              ``left``/``right``: ``{body: <foot body>, pos: [x, y, z]}``; ``pos`` (optional) is
+                       the sole centre in the body frame, m; default: the centre of the lowest points
+                       of the foot's collision geoms (:mod:`gaitshift.robots.soles`)
+``sole_orientation``   (optional) sole frame in the foot body frame: ``body`` (default), ``geoms`` (the
+                       frame of the foot's largest collision box) or ``{left: [w, x, y, z], right: ...}``
+``sole_size``          (optional) [length, width] of the sole rectangle, m; default: from the geoms
+``torso``              body kept upright by the IK
+``hips``, ``knees``    [left, right] hip-pitch and knee joint names (reach and singularity checks)
+``leg_joints``         the leg joints, left then right
+``arm_joints``         (optional) joints held at the standing pose by the arm posture task
+``standing_pose``      (optional) {joint: angle, rad}; unlisted joints are at the model's qpos0
+``com_height``         (optional, only without ``standing_pose``) CoM height above the soles, m, for
+                       which the standing pose is computed by IK (:mod:`gaitshift.robots.standing`);
+                       default: 0.92 x the CoM height with straight legs
+``velocity_limits``    (optional) {joint: rad/s}; MJCF has no velocity limits, so they come from the
+                       maker's URDF (``velocity_limits_source`` says which)
+``control``            (optional) whole-body controller gains for this robot {name: value}; the names
+                       are the fields of ``gaitshift.control.wbc.Gains`` (docs/robots.md)
+=====================  ========================================================================
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, Strict
+
+from gaitshift.scenario.fields import Length, Real, StrictModel
+
+#: a joint angle, rad
+Angle = Annotated[float, Strict(), Field(ge=-10, le=10, allow_inf_nan=False)]
+#: a joint speed limit, rad/s
+JointSpeed = Annotated[float, Strict(), Field(gt=0, le=1000, allow_inf_nan=False)]
+#: a quaternion component
+QuatPart = Annotated[float, Strict(), Field(ge=-1, le=1, allow_inf_nan=False)]
+#: a controller gain or weight
+Gain = Annotated[float, Strict(), Field(ge=0, le=1e6, allow_inf_nan=False)]
+
+
+class Sole(StrictModel):
+    body: str
+    pos: tuple[Real, Real, Real] | None = None
+
+
+class Soles(StrictModel):
+    left: Sole
+    right: Sole
+
+
+class SoleQuats(StrictModel):
+    left: tuple[QuatPart, QuatPart, QuatPart, QuatPart]
+    right: tuple[QuatPart, QuatPart, QuatPart, QuatPart]
+
+
+class RobotYaml(StrictModel):
+    """The keys of a robot YAML file (see module docstring)."""
+
+    name: str
+    description: str = ""
+    mjcf: str
+    soles: Soles
+    sole_orientation: Literal["body", "geoms"] | SoleQuats = "body"
+    sole_size: tuple[Length, Length] | None = None
+    torso: str
+    hips: tuple[str, str]
+    knees: tuple[str, str]
+    leg_joints: tuple[str, ...]
+    arm_joints: tuple[str, ...] = ()
+    standing_pose: dict[str, Angle] = Field(default_factory=dict)
+    com_height: Length | None = None
+    velocity_limits: dict[str, JointSpeed] = Field(default_factory=dict)
+    velocity_limits_source: str = ""
+    control: dict[str, Gain] = Field(default_factory=dict)

@@ -1,0 +1,78 @@
+"""How well the state estimator tracked the truth over a run: the ``"estimation"`` object of the metrics.
+
+From the run's arrays (truth: ``qpos``, ``qvel``, ``contact`` (contact list), ``com_pos``, ``com_vel``;
+estimate: ``est_*`` of :class:`gaitshift.sim.sensing.EstimationLog`), over the ticks after the first
+(tick 0 is the known start state):
+
+* ``base_vel_rmse``: ``sqrt(mean |v_hat - v|^2)`` of the base origin's 3D velocity, m/s;
+* ``tilt_rmse``: RMS of the angle between the estimated and the true base z axes, rad;
+* ``yaw_drift``: ``|yaw_hat - yaw|`` of the base at the last tick (wrapped to [0, pi]), rad;
+* ``pos_drift_per_m``: horizontal base position error at the last tick over the horizontal distance the
+  base travelled (sum of ``|dp_xy|``), m/m (null below 0.1 m travelled);
+* ``contact_accuracy``: fraction of ticks where both estimated stance flags equal the truth (a sole
+  sphere on the floor, MuJoCo's contact list);
+* ``com_rmse``, ``com_vel_rmse``: 3D CoM position (m) and velocity (m/s) RMS errors;
+* ``slip_ticks``: ticks with a slip flag; ``tick_us``: median cost of ``StateEstimator.step``, µs;
+* ``used_by_controller``: true for ``state="estimated"`` (in oracle runs the estimator runs alongside).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+
+def _z_axis(q: np.ndarray) -> np.ndarray:
+    """Third column of the rotation of quaternions (K, 4) (w, x, y, z): (K, 3)."""
+    w, x, y, z = q.T
+    return np.stack([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)], axis=1)
+
+
+def _yaw(q: np.ndarray) -> np.ndarray:
+    """Heading of the x axis of quaternions (K, 4), rad."""
+    w, x, y, z = q.T
+    out: np.ndarray = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return out
+
+
+def _rms(err: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(np.sum(err**2, axis=-1)))) if len(err) else math.nan
+
+
+def estimation_errors(a: dict[str, np.ndarray]) -> dict[str, Any]:
+    """The ``"estimation"`` object (module docstring) of the run arrays ``a``."""
+    n = len(a["t"])
+    if n < 2 or "est_qpos" not in a:
+        return {}
+    s = slice(1, n)
+    q, qh = a["qpos"][s], a["est_qpos"][s]
+    za, zb = _z_axis(q[:, 3:7]), _z_axis(qh[:, 3:7] / np.linalg.norm(qh[:, 3:7], axis=1, keepdims=True))
+    tilt = np.arctan2(np.linalg.norm(np.cross(za, zb), axis=1), np.sum(za * zb, axis=1))
+    dyaw = _yaw(qh[-1:, 3:7])[0] - _yaw(q[-1:, 3:7])[0]
+    travelled = float(np.sum(np.linalg.norm(np.diff(a["qpos"][:, :2], axis=0), axis=1)))
+    drift = float(np.linalg.norm(qh[-1, :2] - q[-1, :2]))
+    cost = a["est_tick_us"][s]
+    return {
+        "base_vel_rmse": _rms(a["est_qvel"][s, :3] - a["qvel"][s, :3]),
+        "tilt_rmse": float(np.sqrt(np.mean(tilt**2))),
+        "yaw_drift": float(abs(math.remainder(float(dyaw), 2 * math.pi))),
+        "pos_drift_per_m": drift / travelled if travelled >= 0.1 else None,
+        "pos_drift": drift,
+        "distance": travelled,
+        "contact_accuracy": float(np.mean(np.all(a["est_contact"][s] == a["contact"][s], axis=1))),
+        "com_rmse": _rms(a["est_com"][s] - a["com_pos"][s]),
+        "com_vel_rmse": _rms(a["est_com_vel"][s] - a["com_vel"][s]),
+        "slip_ticks": int(np.sum(np.any(a["est_slip"][s], axis=1))),
+        "tick_us": float(np.median(cost)),
+        "friction_assumed_final": float(a["est_mu"][-1]),
+    }
+
+
+def sensing_metrics(a: dict[str, np.ndarray], state: str) -> dict[str, Any]:
+    """``{"state_source": state, "estimation": {...}}`` for the metrics of a run."""
+    est = estimation_errors(a)
+    if est:
+        est["used_by_controller"] = state == "estimated"
+    return {"state_source": state, "estimation": est}

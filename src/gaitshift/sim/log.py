@@ -1,0 +1,98 @@
+"""The per-tick log of a closed-loop run: preallocated arrays, one row per control tick."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from gaitshift.control.wbc import TickInfo, TickReference
+from gaitshift.sim.contacts import FootContacts
+
+
+class TickLog:
+    """Arrays of ``n_ticks`` rows (world frame, SI), in file order:
+
+    ``t`` (plan time, s), ``qpos`` (nq), ``qvel`` (nv), ``tau`` (nu, N m applied), ``com_pos``,
+    ``com_ref`` (tracked: plan + shift), ``com_vel``, ``com_vel_ref`` (3), ``contact`` (measured) and
+    ``contact_ref`` (planned) (2, bool), ``stance`` (controller, 2 bool), ``grf`` (measured) and
+    ``grf_ref`` (QP) (2, 3) N, ``foot_pos`` (measured) and ``foot_ref`` (2, 3) sole centres, ``angmom``
+    (3, centroidal angular momentum, kg m^2/s), ``plan_index`` (plan sample), ``com_shift`` (3, plan
+    shift of the step feedback), ``qp_ok`` (bool), ``push_force`` (3, N on the pelvis).
+    """
+
+    def __init__(self, n_ticks: int, model: mujoco.MjModel) -> None:
+        n = n_ticks  # rows grow on demand beyond this (:meth:`record`)
+        self.data: dict[str, np.ndarray] = {
+            "t": np.zeros(n),
+            "qpos": np.zeros((n, model.nq)),
+            "qvel": np.zeros((n, model.nv)),
+            "tau": np.zeros((n, model.nu)),
+            "com_pos": np.zeros((n, 3)),
+            "com_ref": np.zeros((n, 3)),
+            "com_vel": np.zeros((n, 3)),
+            "com_vel_ref": np.zeros((n, 3)),
+            "contact": np.zeros((n, 2), bool),
+            "contact_ref": np.zeros((n, 2), bool),
+            "stance": np.zeros((n, 2), bool),
+            "grf": np.zeros((n, 2, 3)),
+            "grf_ref": np.zeros((n, 2, 3)),
+            "foot_pos": np.zeros((n, 2, 3)),
+            "foot_ref": np.zeros((n, 2, 3)),
+            "angmom": np.zeros((n, 3)),
+            "plan_index": np.zeros(n, np.int64),
+            "com_shift": np.zeros((n, 3)),
+            "qp_ok": np.zeros(n, bool),
+            "push_force": np.zeros((n, 3)),
+        }
+
+    def record(
+        self,
+        k: int,
+        t: float,
+        i: int,
+        d: mujoco.MjData,
+        tau: np.ndarray,
+        contacts: FootContacts,
+        ref: TickReference,
+        info: TickInfo,
+        shift: np.ndarray,
+        contact_ref: np.ndarray,
+        foot_pos: np.ndarray,
+        push: np.ndarray,
+    ) -> None:
+        """Row ``k``: plan time ``t``, plan sample ``i``, the state in ``d`` (after ``mj_forward`` and
+        ``mj_subtreeVel``, before the step), the torques, contacts, reference and QP result."""
+        a = self.data
+        if k >= len(a["t"]):
+            self._grow(2 * len(a["t"]))
+        a["t"][k] = t
+        a["qpos"][k] = d.qpos
+        a["qvel"][k] = d.qvel
+        a["tau"][k] = tau
+        a["com_pos"][k] = d.subtree_com[0]
+        a["com_ref"][k] = ref.com_pos
+        a["com_shift"][k] = shift
+        a["com_vel"][k] = d.subtree_linvel[0]
+        a["com_vel_ref"][k] = ref.com_vel
+        a["contact"][k] = contacts.touching
+        a["contact_ref"][k] = contact_ref
+        a["stance"][k] = ref.stance
+        a["grf"][k] = contacts.grf
+        a["grf_ref"][k] = info.forces
+        a["foot_pos"][k] = foot_pos
+        a["foot_ref"][k] = ref.foot_pos
+        a["angmom"][k] = d.subtree_angmom[0]
+        a["plan_index"][k] = i
+        a["qp_ok"][k] = info.ok
+        a["push_force"][k] = push
+
+    def _grow(self, n: int) -> None:
+        """More rows (a run longer than allocated: a live session); new pushes are zero."""
+        for key, v in self.data.items():
+            grown = np.zeros((n, *v.shape[1:]), dtype=v.dtype)
+            grown[: len(v)] = v
+            self.data[key] = grown
+
+    def arrays(self, n: int) -> dict[str, np.ndarray]:
+        """The first ``n`` rows of every array (the ticks run)."""
+        return {key: v[:n] for key, v in self.data.items()}

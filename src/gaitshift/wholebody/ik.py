@@ -1,0 +1,396 @@
+"""Whole-body inverse kinematics: from a planned :class:`~gaitshift.trajectory.contract.Trajectory` to q(t), q̇(t).
+
+This is the last block of the planner of paper 001 (§II-A, Fig. 1): "desired joint angles and
+velocities are calculated by inverse kinematics for generated CoM, torso, swing leg trajectory".
+
+At each sample k the configuration q_k (MuJoCo qpos: free joint first, then the hinges) solves
+
+    c(q_k)      = p_k                  whole-body CoM (mass-weighted mean of every body), 3 equations
+    X_L(q_k)    = (f_L,k, Rz(psi_L,k)) left sole pose (centre, flat, yaw), 6 equations
+    X_R(q_k)    = (f_R,k, Rz(psi_R,k)) right sole pose, 6 equations
+
+exactly, and among the solutions keeps the torso upright (yaw = mean sole yaw) and the arms, waist
+and legs close to the standing pose (weighted least squares), with the joint limits as inequalities.
+Each Newton iteration is one mink QP (daqp through qpsolvers)::
+
+    min_dq  sum_soft ||J_i dq + e_i||^2_{W_i} + damping ||dq||^2
+    s.t.    J_h dq = -e_h                  (CoM and both soles, mink ``constraints``)
+            q_min <= q + dq <= q_max       (mink ConfigurationLimit)
+
+The first guess at sample k is the constant-velocity extrapolation q_{k-1} ⊕ (q_{k-1} ⊖ q_{k-2}),
+so that one or two iterations usually suffice. q̇ comes from central differences of q on the
+configuration manifold (second order in dt).
+
+A plan that the robot cannot follow raises :class:`~gaitshift.errors.InfeasibleError` naming the time
+and the failing task (``com``, ``left sole``, ``right sole``, ``joint velocity``) and the cause: foot
+out of reach (hip-to-sole distance above the leg length), a joint at its limit, or a knee stretched
+into the straight-leg singularity.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from gaitshift.common.rotations import rot_z
+from gaitshift.errors import InfeasibleError, InputError
+from gaitshift.robots.config import RobotConfig, load_robot
+from gaitshift.trajectory.contract import Trajectory
+from gaitshift.wholebody.joints import JointTrajectory, coordinate_names, joint_velocities, subsample
+
+TASKS = ("com", "left sole", "right sole")
+
+
+class IKInfeasibleError(InfeasibleError):
+    """The robot cannot follow the plan. Attributes: ``time`` (s), ``task`` (one of ``com``,
+    ``left sole``, ``right sole``, ``joint velocity``) and ``cause`` (text)."""
+
+    def __init__(self, message: str, *, time: float, task: str, cause: str):
+        super().__init__(message)
+        self.time = time
+        self.task = task
+        self.cause = cause
+
+
+@dataclass(frozen=True)
+class IKSettings:
+    """Tolerances and weights of the whole-body IK.
+
+    Attributes:
+        com_tol, pos_tol, rot_tol: a sample whose CoM error (m), sole position error (m) or sole
+            orientation error (rad) stays above these after ``max_iter`` iterations is infeasible.
+        converged_pos, converged_rot: stop iterating below these errors (m, rad).
+        max_iter: Newton iterations per sample; ``first_iter`` for the first sample (from standing).
+        knee_margin: a knee within this angle (rad) of straight is a singularity.
+        torso_cost, posture_cost, arm_cost: weights of the soft tasks (unitless, per rad).
+        damping: Levenberg-Marquardt damping of the QP.
+        extrapolate: warm-start each sample at q_{k-1} ⊕ (q_{k-1} ⊖ q_{k-2}) (else at q_{k-1}).
+    """
+
+    com_tol: float = 1e-3
+    pos_tol: float = 5e-4
+    rot_tol: float = 5e-3
+    converged_pos: float = 2e-5
+    converged_rot: float = 2e-4
+    max_iter: int = 12
+    first_iter: int = 200
+    knee_margin: float = 0.05
+    torso_cost: float = 1.0
+    posture_cost: float = 0.02
+    arm_cost: float = 0.5
+    damping: float = 1e-6
+    extrapolate: bool = True
+
+
+# ====================================================================== targets
+
+
+def _rot_angle(r_target: np.ndarray, r: np.ndarray) -> float:
+    c = (np.trace(r_target.T @ r) - 1.0) / 2.0
+    return float(math.acos(min(1.0, max(-1.0, c))))
+
+
+def _rot_angle_no_roll(r_target: np.ndarray, r: np.ndarray) -> float:
+    """Orientation error without the roll about the sole's own x axis: the angle between the x axes
+    (pitch and yaw of the sole), rad."""
+    c = float(r_target[:, 0] @ r[:, 0])
+    return float(math.acos(min(1.0, max(-1.0, c))))
+
+
+class _RowsTask:
+    """Some rows of a mink task's error and Jacobian, as an equality constraint (mink reads ``gain``,
+    ``compute_error`` and ``compute_jacobian`` of its constraints)."""
+
+    def __init__(self, task: Any, rows: tuple[int, ...]):
+        self.task, self.rows, self.gain = task, list(rows), task.gain
+
+    def compute_error(self, configuration: Any) -> np.ndarray:
+        return np.asarray(self.task.compute_error(configuration))[self.rows]
+
+    def compute_jacobian(self, configuration: Any) -> np.ndarray:
+        return np.asarray(self.task.compute_jacobian(configuration))[self.rows]
+
+
+# ====================================================================== IK
+class WholeBodyIK:
+    """Whole-body IK of one robot (see module docstring). Reusable across trajectories."""
+
+    def __init__(self, robot: str | Path | RobotConfig = "g1", settings: IKSettings | None = None):
+        import mink
+        import mujoco
+
+        self._mujoco, self._mink = mujoco, mink
+        self.robot = load_robot(robot)
+        self.settings = s = settings or IKSettings()
+        self.model = m = self.robot.model()
+        self.q_stand = self.robot.standing_qpos(m)
+        self.conf = mink.Configuration(m, self.q_stand.copy())
+        self.sites = [m.site(n).id for n in RobotConfig.SOLE_SITES]
+        self.com_task = mink.ComTask(cost=1.0)
+        self.sole_tasks = [
+            mink.FrameTask(n, "site", position_cost=1.0, orientation_cost=1.0) for n in RobotConfig.SOLE_SITES
+        ]
+        self.torso_task = mink.FrameTask(self.robot.torso, "body", position_cost=0.0, orientation_cost=s.torso_cost)
+        cost = np.full(m.nv, s.posture_cost)
+        cost[:6] = 0.0
+        legs = set(self.robot.leg_joints)
+        for name in self.robot.joint_names:
+            if name not in legs:
+                cost[m.jnt_dofadr[m.joint(name).id]] = s.arm_cost
+        self.posture_task = mink.PostureTask(m, cost=cost)
+        self.posture_task.set_target(self.q_stand)
+        self.limits = [mink.ConfigurationLimit(m, gain=0.95)]
+        #: sole roll rows dropped from the hard constraints: legs that cannot roll their foot (5-DOF legs)
+        self.dropped = [
+            f"{side} sole roll" for side, ok in zip(("left", "right"), self.robot.foot_roll, strict=True) if not ok
+        ]
+        self.hard: list[Any] = [self.com_task] + [
+            t if ok else _RowsTask(t, (0, 1, 2, 4, 5))
+            for t, ok in zip(self.sole_tasks, self.robot.foot_roll, strict=True)
+        ]
+        self.soft = [self.torso_task, self.posture_task] + [
+            t for t, ok in zip(self.sole_tasks, self.robot.foot_roll, strict=True) if not ok
+        ]
+        self.knee_adr = [m.joint(n).qposadr[0] for n in self.robot.knees]
+        self.hip_ids = [m.joint(n).id for n in self.robot.hips]
+        jids = [m.joint(n).id for n in self.robot.joint_names]
+        self._qadr = np.array([m.jnt_qposadr[j] for j in jids])
+        self._vadr = np.array([m.jnt_dofadr[j] for j in jids])
+        self._lo, self._hi = self.robot.joint_range[:, 0], self.robot.joint_range[:, 1]
+
+    # ------------------------------------------------------------------ one sample
+    def _errors(self, com: np.ndarray, feet: np.ndarray, rots: list[np.ndarray]) -> np.ndarray:
+        d = self.conf.data
+        e = np.empty(5)
+        e[0] = np.linalg.norm(d.subtree_com[1] - com)
+        for i, sid in enumerate(self.sites):
+            e[1 + i] = np.linalg.norm(d.site_xpos[sid] - feet[i])
+            R = d.site_xmat[sid].reshape(3, 3)
+            if self.robot.foot_roll[i]:
+                e[3 + i] = _rot_angle(rots[i], R)
+            else:  # roll dropped: the angle between the sole's x axes and between its y-z plane normals
+                e[3 + i] = _rot_angle_no_roll(rots[i], R)
+        return e
+
+    def _set_targets(self, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray) -> list[np.ndarray]:
+        SE3, SO3 = self._mink.SE3, self._mink.SO3
+        self.com_task.set_target(com)
+        rots = [rot_z(float(y)) for y in yaw]
+        for task, f, r in zip(self.sole_tasks, feet, rots, strict=True):
+            task.set_target(SE3.from_rotation_and_translation(SO3.from_matrix(r), f))
+        mid = math.atan2(math.sin(yaw[0]) + math.sin(yaw[1]), math.cos(yaw[0]) + math.cos(yaw[1]))
+        self.torso_task.set_target(SE3.from_rotation_and_translation(SO3.from_matrix(rot_z(mid)), np.zeros(3)))
+        return rots
+
+    def _solve_sample(
+        self, q: np.ndarray, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray, max_iter: int
+    ) -> tuple[np.ndarray, np.ndarray, int, str | None]:
+        s = self.settings
+        rots = self._set_targets(com, feet, yaw)
+        conf = self.conf
+        conf.update(q)
+        err = self._errors(com, feet, rots)
+        it = 0
+        failure = None
+        while it < max_iter and not (
+            err[0] < s.converged_pos and max(err[1], err[2]) < s.converged_pos and max(err[3], err[4]) < s.converged_rot
+        ):
+            try:
+                v = self._mink.solve_ik(
+                    conf, self.soft, 1.0, "daqp", damping=s.damping, limits=self.limits, constraints=self.hard
+                )
+            except self._mink.NoSolutionFound:
+                failure = "the QP has no solution within the joint limits"
+                break
+            conf.integrate_inplace(v, 1.0)
+            err = self._errors(com, feet, rots)
+            it += 1
+        return conf.q.copy(), err, it, failure
+
+    # ------------------------------------------------------------------ diagnosis
+    def _diagnose(
+        self, t: float, q: np.ndarray, feet: np.ndarray, err: np.ndarray, failure: str | None
+    ) -> IKInfeasibleError:
+        s = self.settings
+        d = self.conf.data
+        self.conf.update(q)
+        ratios = np.array(
+            [
+                err[0] / s.com_tol,
+                max(err[1] / s.pos_tol, err[3] / s.rot_tol),
+                max(err[2] / s.pos_tol, err[4] / s.rot_tol),
+            ]
+        )
+        task = int(np.argmax(ratios))
+        reach = [float(np.linalg.norm(feet[i] - d.xanchor[self.hip_ids[i]])) for i in (0, 1)]
+        leg = self.robot.leg_length
+        sides = ("left", "right")
+        where = [f"{sides[i]} hip-to-sole distance {reach[i]:.3f} m" for i in (0, 1)]
+        causes: list[tuple[int | None, str]] = [
+            (i + 1, f"{sides[i]} foot out of reach (hip-to-sole distance {reach[i]:.3f} m > leg length {leg:.3f} m)")
+            for i in (0, 1)
+            if reach[i] > leg
+        ]
+        lo, hi = self.robot.joint_range[:, 0], self.robot.joint_range[:, 1]
+        qj = q[self._qadr]
+        for j in np.flatnonzero((qj - lo < 1e-2) | (hi - qj < 1e-2)):
+            name = self.robot.joint_names[j]
+            causes.append((None, f"joint limit ({name} = {qj[j]:.3f} rad, range [{lo[j]:.3f}, {hi[j]:.3f}])"))
+        causes += [
+            (
+                i + 1,
+                f"knee singularity ({self.robot.knees[i]} = {q[adr]:.3f} rad, leg straight; {where[i]}, "
+                f"leg length {leg:.3f} m)",
+            )
+            for i, adr in enumerate(self.knee_adr)
+            if abs(q[adr]) < s.knee_margin
+        ]
+        if causes and causes[0][0] is not None and (ratios[causes[0][0]] > 1 or ratios.max() <= 1):
+            task = causes[0][0]
+        if not causes:
+            side = task - 1 if task else int(np.argmax(reach))
+            causes.append((None, f"{failure or 'no converged solution'} ({where[side]}, leg length {leg:.3f} m)"))
+        cause = "; ".join(c for _, c in causes)
+        miss = err[0] if task == 0 else max(err[task], 0.0)
+        rot = err[2 + task] if task else 0.0
+        return IKInfeasibleError(
+            f"whole-body IK infeasible for {self.robot.name} at t = {t:.3f} s: task '{TASKS[task]}' misses "
+            f"its target by {miss * 1e3:.1f} mm" + (f" / {rot:.3f} rad" if task else "") + f": {cause}",
+            time=t,
+            task=TASKS[task],
+            cause=cause,
+        )
+
+    # ------------------------------------------------------------------ whole trajectory
+    def solve(self, traj: Trajectory, rate: float | None = None, check_velocities: bool = True) -> JointTrajectory:
+        """Joint trajectories reproducing the CoM and sole poses of ``traj`` (sampled at ``rate`` Hz,
+        default the plan's own step); ``check_velocities``: raise when a joint exceeds its speed limit.
+        On a leg that cannot roll its foot (``RobotConfig.foot_roll``), the sole's roll is dropped from
+        the hard constraints (kept as a soft task) and ``meta.ik.dropped_tasks`` says so.
+
+        Raises:
+            InfeasibleError: the robot cannot follow the plan (time, task and cause in the message).
+            InputError: ``rate`` is not 1/(k dt).
+        """
+        s = self.settings
+        traj = subsample(traj, rate)
+        n = len(traj)
+        if n < 2:
+            raise InputError("trajectory", f"{n} samples", "at least 2 samples")
+        dt = traj.dt
+        feet_all = traj.foot_pos
+        yaw_all = traj.foot_yaw
+        com_all = traj.com_pos
+        m = self.model
+        mujoco = self._mujoco
+
+        # start: standing pose moved so that its soles sit on the first targets
+        q = self.q_stand.copy()
+        d = self.conf.data
+        self.conf.update(q)
+        q[0:3] += feet_all[0].mean(axis=0) - d.site_xpos[self.sites].mean(axis=0)
+        q[3:7] = (math.cos(yaw_all[0].mean() / 2), 0.0, 0.0, math.sin(yaw_all[0].mean() / 2))
+        qpos = np.empty((n, m.nq))
+        errs = np.empty((n, 5))
+        iters = np.empty(n, dtype=np.int32)
+        sample_time = np.empty(n)
+        v_prev = np.zeros(m.nv)
+        for k in range(n):
+            t0 = time.perf_counter()
+            if k >= 2 and s.extrapolate:
+                mujoco.mj_integratePos(m, q, v_prev, 1.0)
+                q[self._qadr] = np.clip(q[self._qadr], self._lo, self._hi)
+            qk, err, it, failure = self._solve_sample(
+                q, com_all[k], feet_all[k], yaw_all[k], s.first_iter if k == 0 else s.max_iter
+            )
+            if (
+                failure is not None
+                or err[0] > s.com_tol
+                or max(err[1], err[2]) > s.pos_tol
+                or max(err[3], err[4]) > s.rot_tol
+                or min(abs(qk[a]) for a in self.knee_adr) < s.knee_margin
+            ):
+                raise self._diagnose(float(traj.t[k]), qk, feet_all[k], err, failure)
+            qk[self._qadr] = np.clip(qk[self._qadr], self._lo, self._hi)  # rounding only (< 1e-15 rad)
+            if k >= 1:
+                mujoco.mj_differentiatePos(m, v_prev, 1.0, qpos[k - 1], qk)
+            qpos[k] = qk
+            q = qk.copy()
+            errs[k] = err
+            iters[k] = it
+            sample_time[k] = time.perf_counter() - t0
+        self.last_sample_times = sample_time
+        self.last_iterations = iters
+        qvel = joint_velocities(m, qpos, dt)
+        if check_velocities:
+            self._check_velocities(traj.t, qvel)
+        return JointTrajectory(traj.t.copy(), qpos, qvel, self._meta(traj, errs, iters, sample_time))
+
+    def _check_velocities(self, t: np.ndarray, qvel: np.ndarray) -> None:
+        vj = np.abs(qvel[:, self._vadr])
+        if not np.all(np.isfinite(vj)):
+            k = int(np.argmax(~np.all(np.isfinite(vj), axis=1)))
+            raise IKInfeasibleError(
+                f"whole-body IK infeasible for {self.robot.name} at t = {t[k]:.3f} s: "
+                "task 'joint velocity' is not finite",
+                time=float(t[k]),
+                task="joint velocity",
+                cause="non-finite velocity",
+            )
+        over = vj / self.robot.velocity_limit
+        if np.any(over > 1.0):
+            k, j = (int(x) for x in np.unravel_index(int(np.argmax(over)), over.shape))
+            name = self.robot.joint_names[j]
+            cause = f"{name} at {vj[k, j]:.2f} rad/s > limit {self.robot.velocity_limit[j]:.2f} rad/s"
+            raise IKInfeasibleError(
+                f"whole-body IK infeasible for {self.robot.name} at t = {t[k]:.3f} s: task "
+                f"'joint velocity' exceeds the velocity limit: {cause}",
+                time=float(t[k]),
+                task="joint velocity",
+                cause=cause,
+            )
+
+    def _meta(self, traj: Trajectory, errs: np.ndarray, iters: np.ndarray, st: np.ndarray) -> dict[str, Any]:
+        qpos_names, qvel_names = coordinate_names(self.model)
+        return {
+            "robot": self.robot.name,
+            "mjcf": str(self.robot.mjcf),
+            "sole_sites": {
+                "left": {"body": self.robot.sole_bodies[0], "pos": list(self.robot.sole_offsets[0])},
+                "right": {"body": self.robot.sole_bodies[1], "pos": list(self.robot.sole_offsets[1])},
+            },
+            "joint_names": list(self.robot.joint_names),
+            "qpos_names": qpos_names,
+            "qvel_names": qvel_names,
+            "dt": traj.dt,
+            "scenario": traj.meta.get("scenario"),
+            "planner": traj.meta.get("planner"),
+            "ik": {
+                "max_com_error_m": float(errs[:, 0].max()),
+                "max_sole_position_error_m": float(errs[:, 1:3].max()),
+                "max_sole_orientation_error_rad": float(errs[:, 3:5].max()),
+                "dropped_tasks": list(self.dropped),
+                "iterations_median": float(np.median(iters)),
+                "iterations_max": int(iters.max()),
+                "time_per_sample_median_s": float(np.median(st[1:] if len(st) > 1 else st)),
+                "time_per_sample_p99_s": float(np.percentile(st[1:] if len(st) > 1 else st, 99)),
+                "total_time_s": float(st.sum()),
+            },
+        }
+
+
+def wholebody(
+    traj: Trajectory | str | Path,
+    robot: str | Path | RobotConfig = "g1",
+    rate: float | None = None,
+    settings: IKSettings | None = None,
+) -> JointTrajectory:
+    """Joint trajectories of ``robot`` following the plan ``traj`` (a Trajectory or its file)."""
+    if not isinstance(traj, Trajectory):
+        traj = Trajectory.load(traj)
+    return WholeBodyIK(robot, settings).solve(traj, rate)

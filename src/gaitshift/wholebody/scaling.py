@@ -1,0 +1,171 @@
+"""Scale a paper scenario to a robot.
+
+The papers plan for life-size robots (paper 001: Kaleido, nominal CoM height h = 0.95 m). A smaller
+robot walks the same gait when every length scales with its legs. The rule:
+
+1. **CoM height.** h' = the robot's nominal CoM height (``RobotConfig.com_height``: whole-body CoM
+   above the soles in its standing pose, whose knee bend keeps the leg clear of the straight-knee
+   singularity; for the G1 h' = 0.655 m with a leg length of 0.692 m). The scale factor is
+   lambda = h' / h.
+2. **Lengths along the path** scale with lambda: stride (``profile.max_stride`` and explicit
+   footholds), step rise, swing-foot clearance, the ZMP margin and vertical ZMP band, and the
+   reachability limits (``limits``). Geometric similarity keeps the leg angles of the paper's gait.
+3. **Feet** are the robot's: ``foot.size`` = the sole rectangle of the config, and the lateral step
+   width = the foot separation of the standing pose (the robot's hip width, not a scaled copy of the
+   paper's, so that the legs stay parallel).
+4. **Timing is kept** (``time_scale="keep"``, the default). Phase durations are not scaled, so the
+   stiffness is not scaled either: the planner recomputes T_w = sqrt(h'/g) and T_r, T_t0, T_t1
+   (paper 001 eqs. 9-14) from the new height. This keeps the paper's rhythm, which makes the scaled
+   gait slower in Froude number v^2/(g h) by the factor lambda.
+   With ``time_scale="froude"`` (``gaitshift scale --time-scale froude``) every duration is multiplied
+   by sqrt(lambda) (tau' = tau sqrt(lambda), :data:`TIME_KEYS`) and speeds by sqrt(lambda), so that the
+   gait keeps the paper's Froude number: for robots much smaller or larger than the paper's (OP3:
+   lambda ~ 0.27, durations x 0.52). lambda is the geometric scale factor of rule 1, which is the
+   leg-length ratio of geometrically similar robots.
+
+Angles (yaw, yaw rate), gravity and the sampling step are unchanged.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from gaitshift.errors import InputError
+from gaitshift.robots.config import RobotConfig, load_robot
+from gaitshift.scenario import load_scenario
+
+#: Dotted keys multiplied by lambda, per planner (lengths, and speeds of a gait whose timing is kept).
+LENGTH_KEYS: dict[str, tuple[str, ...]] = {
+    "tvlip": (
+        "profile.max_stride",
+        "profile.step_height",
+        "limits.max_stride",
+        "limits.max_step_height",
+        "swing_height",
+        "foot.zmp_margin",
+        "foot.zmp_z",
+    ),
+    "vhip": (
+        "heights.stand",
+        "heights.touchdown",
+        "heights.takeoff",
+        "heights.z_low",
+        "foot.zmp_margin",
+        "foot.zmp_z",
+        "limits.max_speed",
+        "limits.max_stride",
+        "limits.max_accel_per_step",
+        "swing_apex",
+    ),
+}
+
+
+#: Dotted keys multiplied by sqrt(lambda) with ``time_scale="froude"`` (durations), per planner.
+TIME_KEYS: dict[str, tuple[str, ...]] = {
+    "tvlip": ("timing.single_support", "timing.double_support", "timing.flight", "timing.start", "timing.stop"),
+    "vhip": ("step_period", "start_double_support", "stop_double_support", "stop_at"),
+}
+#: the time scalings of :func:`scale_scenario`
+TIME_SCALES = ("keep", "froude")
+
+
+def nominal_height(scenario: Any) -> float:
+    """The scenario's nominal CoM height, m: ``height`` (TV-LIPM) or ``heights.stand`` (VHIP)."""
+    if scenario.planner == "vhip":
+        return float(scenario.heights.stand)
+    return float(scenario.height)
+
+
+def scale_factor(scenario: Any, robot: str | Path | RobotConfig) -> float:
+    """lambda = robot nominal CoM height / scenario nominal CoM height (rule 1 of the module docstring)."""
+    robot = load_robot(robot)
+    return robot.com_height / nominal_height(scenario)
+
+
+def scale_scenario(
+    scenario: Any, robot: str | Path | RobotConfig, name: str | None = None, time_scale: str = "keep"
+) -> Any:
+    """The scenario (object, built-in name or path) scaled to ``robot`` by the rule of this module.
+
+    TV-LIPM: ``height`` = the robot's CoM height. VHIP: every CoM height of ``heights`` x lambda (so
+    ``heights.stand`` = the robot's CoM height), commanded speeds and speed limits x lambda (same step
+    timing, lambda times the stride); vertical accelerations at the switches are kept.
+    ``time_scale``: ``keep`` or ``froude`` (rule 4). The scaled scenario names its robot (``robot``).
+    Returns a validated scenario of the same planner, named ``name`` (default ``<robot>-<name>``).
+
+    Raises:
+        InputError: unknown ``time_scale``.
+    """
+    if time_scale not in TIME_SCALES:
+        raise InputError("--time-scale", time_scale, "one of: " + ", ".join(TIME_SCALES))
+    if not hasattr(scenario, "planner"):
+        scenario = load_scenario(scenario)
+    robot = load_robot(robot)
+    lam = scale_factor(scenario, robot)
+    tau = math.sqrt(lam) if time_scale == "froude" else 1.0
+    data = scenario.model_dump(mode="python")
+    data["robot"] = robot.source or robot.name
+    for key in TIME_KEYS.get(scenario.planner, ()):
+        _scale_path(data, key, tau)
+    if scenario.planner == "tvlip":
+        data["height"] = robot.com_height
+    for key in LENGTH_KEYS.get(scenario.planner, ()):
+        _scale_path(data, key, lam)
+    if scenario.planner == "vhip":
+        data["heights"]["stand"] = robot.com_height
+        v = lam / tau
+        data["commands"] = [dict(c, t=c["t"] * tau, vx=c["vx"] * v, vy=c["vy"] * v) for c in data["commands"]]
+        data["step_width"] = robot.foot_separation
+    if isinstance(data.get("foot"), dict) and "size" in data["foot"]:
+        data["foot"]["size"] = list(robot.sole_size)
+    if isinstance(data.get("profile"), dict) and "step_width" in data["profile"]:
+        data["profile"]["step_width"] = robot.foot_separation
+    if data.get("footsteps"):
+        data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
+    data["name"] = name or f"{robot.name}-{scenario.name}"
+    desc = data.get("description", "")
+    data["description"] = (
+        f"{desc} -- scaled to {robot.name} (lambda = {lam:.4f}: CoM height "
+        f"{robot.com_height:.4f} m, lengths x lambda, robot soles and foot separation, "
+        + ("timing kept)" if tau == 1.0 else f"durations x sqrt(lambda) = {tau:.4f})")
+    ).strip(" -")
+    return load_scenario(data)
+
+
+def _scale_path(data: dict[str, Any], dotted: str, lam: float) -> None:
+    *parents, leaf = dotted.split(".")
+    node: Any = data
+    for p in parents:
+        if not isinstance(node, dict) or not isinstance(node.get(p), dict):
+            return
+        node = node[p]
+    if not isinstance(node, dict) or leaf not in node or node[leaf] is None:
+        return
+    v = node[leaf]
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        node[leaf] = v * lam
+    elif isinstance(v, (list, tuple)) and all(isinstance(x, (int, float)) for x in v):
+        node[leaf] = [x * lam for x in v]
+    else:  # pragma: no cover - the schemas hold numbers or lists of numbers at these keys
+        raise InputError(dotted, v, "a length (number or list of numbers) to scale")
+
+
+def scenario_yaml(scenario: Any, header: str = "") -> str:
+    """YAML text of a scenario (``gaitshift scale --out``), floats to 12 significant digits."""
+    import yaml
+
+    data = scenario.model_dump(mode="json")
+
+    def _round(v: Any) -> Any:
+        if isinstance(v, float):
+            return float(f"{v:.12g}")
+        if isinstance(v, list):
+            return [_round(x) for x in v]
+        if isinstance(v, dict):
+            return {k: _round(x) for k, x in v.items() if x is not None}
+        return v
+
+    body = yaml.safe_dump(_round(data), sort_keys=False, default_flow_style=None, width=110, allow_unicode=True)
+    return "".join(f"# {line}\n" for line in header.splitlines()) + body

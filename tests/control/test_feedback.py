@@ -1,0 +1,67 @@
+"""Capture-point step feedback: the foothold correction formula and the plan-shift state.
+
+The correction is recomputed here from its definition, delta = k (xi - xi_ref) with xi = c + cd /
+omega, clipped per axis; the shift's first-order lag is compared with its closed form
+target (1 - (1 - dt / T)^n) after n ticks.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gaitshift.control.feedback import CaptureSettings, PlanShift, capture_point_offset
+
+
+def test_offset_is_the_gain_times_the_capture_point_error_clipped_per_axis():
+    omega = np.sqrt(9.81 / 0.6)
+    com, vel = np.array([0.10, -0.02, 0.60]), np.array([0.50, 0.10, -0.3])
+    com_ref, vel_ref = np.array([0.08, 0.00, 0.62]), np.array([0.45, 0.00, 0.0])
+    out = capture_point_offset(com, vel, com_ref, vel_ref, omega, 0.8, 1.0)
+    xi = com[:2] + vel[:2] / omega
+    xi_ref = com_ref[:2] + vel_ref[:2] / omega
+    np.testing.assert_allclose(out, [*(0.8 * (xi - xi_ref)), 0.0], atol=1e-15)
+    clipped = capture_point_offset(com + np.array([1.0, -1.0, 0.0]), vel, com_ref, vel_ref, omega, 1.0, 0.1)
+    np.testing.assert_array_equal(clipped, [0.1, -0.1, 0.0])
+
+
+def test_landing_moves_the_foot_correction_into_the_plan_shift_target():
+    shift = PlanShift(CaptureSettings(), omega=4.0)
+    shift.offset[:] = [[0.02, -0.01, 0.0], [0.03, 0.04, 0.0]]
+    shift.land(np.array([False, True]))
+    np.testing.assert_array_equal(shift.target, [0.03, 0.04, 0.0])
+    np.testing.assert_array_equal(shift.offset, [[0.02, -0.01, 0.0], [0.0, 0.0, 0.0]])
+    shift.land(np.array([True, False]))
+    np.testing.assert_allclose(shift.target, [0.05, 0.03, 0.0])
+
+
+def test_shift_follows_its_target_with_a_first_order_lag():
+    settings = CaptureSettings(shift_time=0.1)
+    shift = PlanShift(settings, omega=4.0)
+    shift.target[:] = [0.05, -0.02, 0.0]
+    dt, n = 0.002, 60
+    for _ in range(n):
+        shift.blend(dt)
+    np.testing.assert_allclose(shift.shift, shift.target * (1 - (1 - dt / 0.1) ** n), rtol=1e-12)
+    for _ in range(2000):
+        shift.blend(dt)
+    np.testing.assert_allclose(shift.shift, shift.target, atol=1e-12)
+
+
+@pytest.mark.parametrize(("gain", "updated"), [(1.0, [True, False]), (0.0, [False, False])])
+def test_only_swinging_feet_before_the_freeze_point_are_corrected(gain, updated):
+    """Foot 0 swings at u = 0.5 (corrected unless the gain is 0), foot 1 at u = 0.8 > freeze_u (frozen);
+    stance feet are never corrected."""
+    shift = PlanShift(CaptureSettings(gain=gain, freeze_u=0.7), omega=4.0)
+    shift.target[:] = [0.01, 0.0, 0.0]
+    com, vel = np.array([0.2, 0.05, 0.6]), np.array([0.3, 0.0, 0.0])
+    plan_com, plan_vel = np.array([0.15, 0.0, 0.6]), np.array([0.3, 0.0, 0.0])
+    shift.correct_swings(np.array([False, False]), np.array([0.5, 0.8]), com, vel, plan_com, plan_vel)
+    expected = capture_point_offset(com, vel, plan_com + shift.target, plan_vel, 4.0, gain, 0.1)
+    got = [bool(np.any(shift.offset[s] != 0.0)) for s in (0, 1)]
+    assert got == updated
+    if updated[0]:
+        np.testing.assert_array_equal(shift.offset[0], expected)
+    shift.offset[:] = 0.0
+    shift.correct_swings(np.array([True, True]), np.array([0.1, 0.1]), com, vel, plan_com, plan_vel)
+    assert np.all(shift.offset == 0.0)

@@ -1,0 +1,31 @@
+"""Blocks of emitted samples concatenate column by column, in order."""
+
+import numpy as np
+
+from gaitshift.planners.online.samples import Samples
+
+
+def _block(t0, m):
+    t = t0 + np.arange(m) * 0.01
+    xyz = np.column_stack([t, 2 * t, 3 * t])
+    return Samples(
+        t=t,
+        com_pos=xyz,
+        com_vel=xyz + 1,
+        com_acc=xyz + 2,
+        zmp=xyz + 3,
+        phase=np.zeros(m, np.int8),
+        contact=np.ones((m, 2), bool),
+        foot_pos=np.repeat(xyz[:, None], 2, 1),
+        command=np.zeros((m, 2)),
+        stiffness=np.full(m, 0.3),
+    )
+
+
+def test_blocks_concatenate_in_order():
+    a, b = _block(0.0, 3), _block(0.03, 4)
+    s = Samples.concat([a, b])
+    assert len(s) == 7
+    np.testing.assert_array_equal(s.t, np.r_[a.t, b.t])
+    np.testing.assert_array_equal(s.foot_pos[3:], b.foot_pos)
+    assert s.phase.dtype == np.int8 and s.contact.shape == (7, 2)

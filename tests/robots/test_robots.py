@@ -1,0 +1,62 @@
+"""Every shipped robot config loads from its YAML alone, and what is read from its model is physical:
+the standing pose is statically balanced (CoM over the support polygon of the soles), the soles are
+flat on one plane with upward normals, the torque limits are finite, and 5-DoF legs are detected."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+from scipy.spatial import ConvexHull, Delaunay
+
+from gaitshift.robots import builtin_robots, load_robot
+
+ROBOTS = ["g1", "t1", "h1", "op3", "berkeley"]
+
+
+def test_the_five_robots_ship_a_config():
+    assert set(ROBOTS) <= set(builtin_robots())
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_standing_pose_is_statically_balanced_with_flat_soles(name):
+    robot = load_robot(name)
+    m = robot.model()
+    d = mujoco.MjData(m)
+    d.qpos[:] = robot.standing_qpos(m)
+    mujoco.mj_kinematics(m, d)
+    mujoco.mj_comPos(m, d)
+    points = []
+    for side, site in enumerate(robot.SOLE_SITES):
+        R = d.site_xmat[m.site(site).id].reshape(3, 3)
+        assert R[2, 2] > np.cos(np.radians(1.0)), f"{name} sole {side} tilted"
+        points.append(d.site_xpos[m.site(site).id] + robot.soles[side].points @ R.T)
+    pts = np.vstack(points)
+    assert np.ptp(pts[:, 2]) < 2e-3  # one sole plane
+    hull = ConvexHull(pts[:, :2])
+    assert Delaunay(pts[hull.vertices, :2]).find_simplex(d.subtree_com[1][:2]) >= 0
+    assert robot.com_height > 0.5 * robot.leg_length
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_leg_torque_limits_are_finite_and_positive(name):
+    robot = load_robot(name)
+    legs = [robot.joint_names.index(j) for j in robot.leg_joints]
+    assert np.all(np.isfinite(robot.torque_limit[legs])) and np.all(robot.torque_limit[legs] > 0)
+
+
+def test_h1_legs_cannot_roll_their_feet_and_the_others_can():
+    assert load_robot("h1").foot_roll == (False, False)
+    for name in ("g1", "t1", "op3", "berkeley"):
+        assert load_robot(name).foot_roll == (True, True)
+
+
+def test_berkeley_sole_frame_from_its_foot_box_is_level_although_the_foot_link_is_not():
+    robot = load_robot("berkeley")
+    m = robot.model()
+    d = mujoco.MjData(m)
+    d.qpos[:] = robot.standing_qpos(m)
+    mujoco.mj_kinematics(m, d)
+    body = d.xmat[m.body(robot.sole_bodies[0]).id].reshape(3, 3)
+    assert body[2, 2] < np.cos(np.radians(20.0))  # the link itself is rotated against the world
+    assert d.site_xmat[m.site(robot.SOLE_SITES[0]).id].reshape(3, 3)[2, 2] > np.cos(np.radians(1.0))

@@ -1,0 +1,145 @@
+"""The truth barrier and the sensed closed loop: the controller side never reads the plant's data (a
+run whose plant truth is scrambled between sensing and stepping is bit-identical), the G1 walks on the
+estimator with typical noise, ten times the noise is clearly worse, the sole touch sensors read the
+contact normal force, the floor friction option sets the contact friction, and the latency pipe
+delays the torques by exactly L ticks and predicts a constant-acceleration state exactly."""
+
+from __future__ import annotations
+
+import copy
+
+import mujoco
+import numpy as np
+import pytest
+
+import gaitshift
+from gaitshift.errors import InputError
+from gaitshift.sim.contacts import ContactSensor
+from gaitshift.sim.latency import CommandPipe
+from gaitshift.sim.loop import SimOptions, simulate
+from gaitshift.sim.plant import build_plant, standing_qpos
+from gaitshift.sim.sensing import with_floor_friction
+from gaitshift.sim.sensor_spec import SOLE_TOUCH_SENSORS
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return gaitshift.plan("g1-walk")
+
+
+@pytest.fixture(scope="module")
+def default_run(walk):
+    return simulate(walk)
+
+
+def _scrambler(model):
+    """Hooks: after sensing, save the plant's data and replace it by another robot state (random joints,
+    pelvis elsewhere, all derived quantities and the contact list recomputed); after the control,
+    restore it except for the command the controller wrote."""
+    saved = {}
+    rng = np.random.default_rng(1)
+
+    def scramble(k, tp, d):
+        saved["d"] = copy.copy(d)
+        mujoco.mj_resetData(model, d)
+        d.qpos[:3] = (1.0, -2.0, 0.3)
+        d.qpos[7:] = rng.uniform(-0.5, 0.5, model.nq - 7)
+        d.qvel[:] = rng.normal(0.0, 3.0, model.nv)
+        mujoco.mj_forward(model, d)
+        mujoco.mj_subtreeVel(model, d)
+
+    def restore(k, tp, d):
+        ctrl, push = d.ctrl.copy(), d.xfrc_applied.copy()
+        mujoco.mj_copyData(d, model, saved["d"])
+        d.ctrl[:], d.xfrc_applied[:] = ctrl, push
+
+    return scramble, restore
+
+
+@pytest.mark.parametrize("state", ["estimated", "oracle"])
+def test_scrambling_the_plant_truth_after_sensing_gives_a_bit_identical_run(walk, state):
+    plant = build_plant()
+    scramble, restore = _scrambler(plant.model)
+    opts = SimOptions(state=state, latency=2)
+    ref = simulate(walk, opts, plant=plant)
+    run = simulate(walk, opts, plant=plant, hooks=[restore], sense_hooks=[scramble])
+    assert not ref.fell
+    for key in ("qpos", "qvel", "tau", "est_qpos", "est_contact"):
+        assert np.array_equal(ref.arrays[key], run.arrays[key]), key
+
+
+def test_the_g1_walks_on_the_estimator_with_typical_noise(default_run):
+    met = default_run.metrics
+    assert not default_run.fell, met.get("fall_reason")
+    assert met["steps_completed"] == met["steps_planned"]
+    assert met["state_source"] == "estimated"
+    est = met["estimation"]
+    assert est["used_by_controller"]
+    assert est["base_vel_rmse"] <= 0.05
+    assert est["tilt_rmse"] <= 0.02
+    assert est["contact_accuracy"] >= 0.95
+    assert est["pos_drift_per_m"] <= 0.05
+
+
+def test_ten_times_the_noise_gives_clearly_larger_estimation_errors(walk, default_run):
+    noisy = simulate(walk, SimOptions(noise_scale=10.0))
+    e1, e10 = default_run.metrics["estimation"], noisy.metrics["estimation"]
+    assert e10["base_vel_rmse"] > 2 * e1["base_vel_rmse"]
+    assert e10["tilt_rmse"] > 2 * e1["tilt_rmse"]
+
+
+def test_oracle_runs_report_the_estimator_alongside(walk):
+    met = simulate(walk, SimOptions(state="oracle", noise="none")).metrics
+    assert met["state_source"] == "oracle"
+    assert met["estimation"]["used_by_controller"] is False
+    assert met["estimation"]["tilt_rmse"] < 0.01
+
+
+def test_sole_touch_sensors_read_the_contact_normal_force():
+    plant = build_plant()
+    m = plant.model
+    d = mujoco.MjData(m)
+    d.qpos[:] = standing_qpos(plant)
+    d.qpos[2] -= 0.001
+    for _ in range(5):
+        mujoco.mj_step(m, d)
+    mujoco.mj_forward(m, d)
+    touch = np.array([d.sensordata[m.sensor(n).adr[0]] for n in SOLE_TOUCH_SENSORS])
+    grf = ContactSensor(plant).read(d).grf
+    assert np.all(touch > 10.0)
+    np.testing.assert_allclose(touch, grf[:, 2], rtol=1e-6)
+
+
+def test_the_floor_friction_option_sets_the_contact_friction():
+    plant = build_plant()
+    slippery = with_floor_friction(plant, 0.3)
+    assert slippery.model is not plant.model  # the cached plant is not touched
+    d = mujoco.MjData(slippery.model)
+    d.qpos[:] = standing_qpos(slippery)
+    d.qpos[2] -= 0.001
+    mujoco.mj_forward(slippery.model, d)
+    assert d.ncon > 0
+    assert all(d.contact[i].friction[0] == pytest.approx(0.3) for i in range(d.ncon))
+
+
+def test_the_latency_pipe_delays_torques_by_l_ticks_and_predicts_constant_acceleration():
+    m = build_plant().model
+    pipe = CommandPipe(m, 3)
+    out = [pipe.send(np.full(m.nu, float(k)), np.ones(m.nv)) for k in range(6)]
+    assert [o[0] for o in out] == [0.0, 0.0, 0.0, 0.0, 1.0, 2.0]  # starts full of the first command
+    q0 = standing_qpos(build_plant())
+    v0 = np.zeros(m.nv)
+    q, v = pipe.predict(q0, v0)  # three pending commands with qdd = 1
+    np.testing.assert_allclose(v, 3 * m.opt.timestep * np.ones(m.nv))
+    dt = m.opt.timestep
+    np.testing.assert_allclose(q[7:] - q0[7:], dt * dt * (1 + 2 + 3) * np.ones(m.nq - 7))
+
+
+@pytest.mark.parametrize(
+    ("key", "value"),
+    [("state", "truth"), ("noise", "loud"), ("noise_scale", -1.0), ("latency", 51), ("friction", 0.0), ("seed", -1)],
+)
+def test_bad_sensing_options_name_the_field(key, value):
+    with pytest.raises(InputError) as info:
+        SimOptions(**{key: value})
+    assert info.value.field == key

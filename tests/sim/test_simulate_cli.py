@@ -1,0 +1,42 @@
+"""``gaitshift simulate --robot``: the robot is chosen explicitly (a scenario made for one robot is not
+run on another), errors are one line with exit 2, and a fall exits 1 with valid JSON metrics."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from gaitshift.cli import main
+
+
+def _run(args, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(list(args))
+    out = capsys.readouterr()
+    return exc.value.code, out.out, out.err
+
+
+def test_a_g1_scenario_on_another_robot_is_an_explicit_error(tmp_path, capsys):
+    code, _, err = _run(["simulate", "g1-walk", "--robot", "t1", "--out", str(tmp_path / "x.npz")], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert "--robot = 't1'" in err and "gaitshift scale g1-walk --robot t1" in err
+    assert not (tmp_path / "x.npz").exists()
+
+
+def test_unknown_robot_lists_the_names_and_a_missing_file_says_no_such_file(tmp_path, capsys):
+    code, _, err = _run(
+        ["simulate", "paper001-table1-running", "--robot", "nao", "--out", str(tmp_path / "x.npz")], capsys
+    )
+    assert code == 2 and "berkeley, g1, h1, op3, t1" in err
+    code, _, err = _run(["simulate", "g1-walk", "--robot", str(tmp_path / "mine.yaml"), "--out", "x.npz"], capsys)
+    assert code == 2 and "no such file" in err
+
+
+def test_a_fall_exits_1_with_valid_json_metrics(tmp_path, capsys):
+    scaled = tmp_path / "op3-walk.yaml"
+    assert _run(["scale", "g1-walk", "--robot", "op3", "--out", str(scaled)], capsys)[0] == 0
+    code, out, _ = _run(["simulate", str(scaled), "--out", str(tmp_path / "s.npz"), "--json"], capsys)
+    metrics = json.loads(out)
+    assert code == 1 and metrics["fell"] is True and metrics["fall_time"] > 0
+    assert (tmp_path / "s.npz").exists()
