@@ -1,8 +1,9 @@
 """The truth barrier and the sensed closed loop: the controller side never reads the plant's data (a
 run whose plant truth is scrambled between sensing and stepping is bit-identical), the G1 walks on the
-estimator with typical noise, ten times the noise is clearly worse, the sole touch sensors read the
-contact normal force, the floor friction option sets the contact friction, and the latency pipe
-delays the torques by exactly L ticks and predicts a constant-acceleration state exactly."""
+estimator with typical noise and runs walk-run-walk on it, ten times the noise is clearly worse, the
+sole touch sensors read the contact normal force, the floor friction option sets the contact
+friction, and the latency pipe delays the torques by exactly L ticks and predicts a
+constant-acceleration state exactly."""
 
 from __future__ import annotations
 
@@ -79,6 +80,19 @@ def test_the_g1_walks_on_the_estimator_with_typical_noise(default_run):
     assert est["tilt_rmse"] <= 0.02
     assert est["contact_accuracy"] >= 0.95
     assert est["pos_drift_per_m"] <= 0.05
+
+
+def test_the_g1_runs_walk_run_walk_on_the_estimator_by_default():
+    """The issue's acceptance run: the default options (estimated state, typical noise) carry the G1
+    through walking, running and back with every step done, and the estimator meets its targets."""
+    run = simulate(gaitshift.plan("g1-walk-run-walk"))
+    met = run.metrics
+    assert not run.fell, met.get("fall_reason")
+    assert met["steps_completed"] == met["steps_planned"]
+    assert met["state_source"] == "estimated"
+    est = met["estimation"]
+    assert est["base_vel_rmse"] <= 0.05
+    assert est["tilt_rmse"] <= 0.01
 
 
 def test_ten_times_the_noise_gives_clearly_larger_estimation_errors(walk, default_run):

@@ -25,7 +25,9 @@ def simulate_cmd(
     robot: str | None = typer.Option(
         None, "--robot", help="Built-in robot name or robot YAML path (default: the scenario's robot, else g1)."
     ),
-    state: str | None = typer.Option(None, "--state", help="What the controller sees: oracle (default) or estimated."),
+    state: str | None = typer.Option(
+        None, "--state", help="What the controller sees: estimated (default; oracle without an IMU) or oracle."
+    ),
     noise: str | None = typer.Option(None, "--noise", help="Sensor noise: none, typical (default) or rl-peer."),
     noise_scale: float | None = typer.Option(None, "--noise-scale", help="Factor on every sensor noise (1)."),
     latency: int | None = typer.Option(None, "--latency", help="Loop latency, ticks (sensing + actuation; 0)."),

@@ -28,6 +28,7 @@ class CaptureSettings:
     freeze_u: float = 0.7  # swing progress after which the foothold correction is frozen
     shift_time: float = 0.1  # s: time constant of the plan shift after a corrected touchdown
     max_step_adjust: float = 0.10  # m
+    anchor: bool = True  # estimated state: keep the plan on the measured stance soles (PlanShift.anchor_on)
 
 
 def capture_point_offset(
@@ -71,6 +72,25 @@ class PlanShift:
             if landed[s]:
                 self.target += self.offset[s]
                 self.offset[s] = 0.0
+
+    def anchor_on(self, stance: np.ndarray, measured: np.ndarray, planned: np.ndarray) -> None:
+        """Keep the plan attached to the support the robot stands on (``anchor``; every tick).
+
+        With the stance flags ``stance`` (2,) bool and the sole positions (2, 3) m ``measured`` (in the
+        controller's world, the estimated one) and ``planned`` (the plan's footholds of the current
+        stances), the horizontal shift target is the mean offset of the stance soles from their
+        footholds,
+
+        .. math:: s_{xy} = \\operatorname{mean}_{i \\in stance} (p^{meas}_{i} - p^{plan}_{i})_{xy},
+
+        held through flight. That subsumes the commanded corrections (a sole lands where it was sent,
+        plus its tracking error) and makes the CoM reference relative to the stance soles, which the
+        joint encoders measure well, instead of to the estimated world position, whose errors (1-3 cm
+        per step from the IMU integration in swing and flight, and an unobservable drift) would
+        otherwise act on the CoM like pushes."""
+        if not self.settings.anchor or not stance.any():
+            return
+        self.target[:2] = (measured[stance, :2] - planned[stance, :2]).mean(axis=0)
 
     def blend(self, dt: float) -> None:
         """One step ``dt`` (s) of the lag of ``shift`` toward ``target``."""

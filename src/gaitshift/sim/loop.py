@@ -70,7 +70,8 @@ class SimOptions:
         pushes: pushes on the pelvis (plan time).
         video: MP4 path, or None; video_fps: its frame rate, Hz.
         viewer: open MuJoCo's passive viewer (needs a display).
-        state: what the controller sees, "estimated" (sensors + estimator) or "oracle" (the truth).
+        state: what the controller sees, "estimated" (sensors + estimator) or "oracle" (the truth);
+            None (the default): "estimated" when the robot's model carries the IMU, else "oracle".
         noise, noise_scale: sensor noise profile ("none", "typical", "rl-peer") and its factor.
         latency: loop latency, ticks (sensing + actuation); predict_latency: compensate it.
         friction: the floor's friction coefficient (None: the model's).
@@ -89,14 +90,14 @@ class SimOptions:
     video_fps: int = 25
     viewer: bool = False
     # sensing and the truth barrier (gaitshift.sim.sensing)
-    state: str = "oracle"
+    state: str | None = None
     noise: str = "typical"
     noise_scale: float = 1.0
     latency: int = 0
     predict_latency: bool = True
     friction: float | None = None
     assumed_friction: float | None = None
-    estimator: str = "inekf-flat"
+    estimator: str = "inekf"
     seed: int = 0
 
     def __post_init__(self) -> None:
@@ -155,6 +156,8 @@ class _Run:
         if tp > 0 or self.opts.settle == 0:
             sched.update(tp, i, view.touching)
         shift.land(was_swing & sched.stance)
+        if self.opts.capture.anchor and not self.sensing.oracle:  # the truth has no drift to absorb
+            shift.anchor_on(sched.stance & ~view.slip, *self.footholds(view))
         shift.blend(self.dt)
         progress = np.array([sched.swing_progress(tp, s) for s in (0, 1)])
         shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i])
@@ -165,6 +168,15 @@ class _Run:
         push = self.push[k] if k < len(self.push) else np.zeros(3)
         d.xfrc_applied[self.plant.pelvis_body, :3] = push
         return tau, ref, info, shift.shift.copy(), traj.contact[i], push
+
+    def footholds(self, view: ControllerView) -> tuple[np.ndarray, np.ndarray]:
+        """Sole positions (2, 3) m as the controller sees them, and the plan's footholds (2, 3) m of the
+        stances the scheduler is at (the plan's sole positions at each foot's last planned touchdown)."""
+        measured = np.array([self.plant.sole_frame(view.data, s)[0] for s in (0, 1)])
+        last = len(self.traj) - 1
+        j = [min(round(self.sched.swing_end[s] / self.traj.dt), last) for s in (0, 1)]
+        planned = np.array([self.traj.foot_pos[j[s], s] for s in (0, 1)])
+        return measured, planned
 
     def execute(self) -> SimResult:
         """Run the ticks until the plan ends or the robot falls; return the result with its metrics."""
@@ -211,7 +223,7 @@ class _Run:
         arrays = {**self.log.arrays(n_done), **self.sensing.log.arrays(n_done)}
         result = SimResult(arrays, fell, fall_time, reason, self._meta(n_done, wall), {})
         result.metrics = summarize(result, self.traj, self.plant.torque_limit)
-        result.metrics.update(sensing_metrics(result.arrays, self.opts.state))
+        result.metrics.update(sensing_metrics(result.arrays, self.sensing.source))
         return result
 
     def _meta(self, n_done: int, wall: float) -> dict[str, Any]:
@@ -261,7 +273,7 @@ def simulate(
     if replanner is not None:
         traj = replanner.trajectory
         if not replanner.step_feedback:
-            opts = replace(opts, capture=replace(opts.capture, gain=0.0))
+            opts = replace(opts, capture=replace(opts.capture, gain=0.0, anchor=False))
     plant = with_floor_friction(plant or build_plant(opts.control_period, robot), opts.friction)
     run = _Run(traj, opts, plant, replanner, hooks)
     run.sense_hooks = tuple(sense_hooks)

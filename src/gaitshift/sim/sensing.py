@@ -63,7 +63,7 @@ CONTACT_ON, CONTACT_OFF = 0.10, 0.05
 def check_sensing_options(opts: Any) -> None:
     """Raise :class:`InputError` (one line: field, value, allowed) for a bad sensing option of ``opts``
     (a :class:`~gaitshift.sim.loop.SimOptions`)."""
-    if opts.state not in STATE_SOURCES:
+    if opts.state is not None and opts.state not in STATE_SOURCES:
         raise InputError("state", opts.state, "one of: " + ", ".join(STATE_SOURCES))
     if opts.noise not in NOISE_PROFILES:
         raise InputError("noise", opts.noise, "one of: " + ", ".join(NOISE_PROFILES))
@@ -143,13 +143,15 @@ class Sensing:
     def __init__(self, plant: Any, opts: Any, qpos0: np.ndarray) -> None:
         check_sensing_options(opts)
         m = plant.model
-        self.plant, self.oracle = plant, opts.state == "oracle"
+        self.has_imu = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, IMU_SITE) >= 0
+        #: what the controller sees: the option, else the estimate when the model has the IMU
+        self.source = opts.state or ("estimated" if self.has_imu else "oracle")
+        self.plant, self.oracle = plant, self.source == "oracle"
         self.cmodel = copy.copy(m)
         self.cmodel.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
         self.cdata = mujoco.MjData(m)
         profile = noise_profile(opts.noise).scaled(float(opts.noise_scale))
         self.log = EstimationLog()
-        self.has_imu = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, IMU_SITE) >= 0
         if not self.has_imu:  # no IMU in the model: the truth only, and no estimation metrics
             if not self.oracle:
                 raise InputError("--state", opts.state, f"oracle: the robot's model has no IMU site '{IMU_SITE}'")

@@ -76,7 +76,7 @@ def _average_nees(name: str, correct_every: int) -> np.ndarray:
             s = f.step(imu[k], feet[k], walk.contact[k], walk.dt)
             if j < checks.size and k == checks[j]:
                 xi = right_invariant_error(se23(walk.rot[k], walk.vel[k], walk.pos[k]), se23(s.rot, s.vel, s.pos))
-                nees[run, j] = xi @ np.linalg.solve(f.cov[0:9, 0:9], xi)
+                nees[run, j] = xi @ np.linalg.solve(f.world_covariance()[0:9, 0:9], xi)
                 j += 1
     return nees.mean(axis=0)
 
