@@ -60,7 +60,10 @@ class RobotConfig:
         joint_names: every hinge/slide joint of the model in qpos order (free joint excluded).
         joint_range: (J, 2) lower/upper limit of each joint of ``joint_names``, rad; +-inf if unlimited.
         torque_limit: (J,) largest joint torque, N m; inf if the model gives none.
-        velocity_limit: (J,) largest joint speed, rad/s; inf where the config gives none.
+        velocity_limit: (J,) largest joint speed, rad/s: the smaller of the YAML's ``velocity_limits``
+            and the model's torque limit / joint damping (:func:`gaitshift.robots.mjcf.damping_speed_limit`);
+            inf where neither gives one.
+        damping_speed: (J,) torque limit / joint damping of the model, rad/s (inf without damping).
         mass: total mass, kg.
         com_height: nominal CoM height above the sole plane in the standing pose, m.
         leg_length: hip-pitch axis to sole centre, leg straight, m.
@@ -90,6 +93,7 @@ class RobotConfig:
     joint_range: np.ndarray
     torque_limit: np.ndarray
     velocity_limit: np.ndarray
+    damping_speed: np.ndarray
     mass: float
     com_height: float
     leg_length: float
@@ -128,6 +132,12 @@ class RobotConfig:
     def standing_qpos(self, model: Any = None) -> np.ndarray:
         """qpos of the standing pose: base at the origin, upright, joints from ``standing_pose``."""
         return _mj.standing_qpos(model if model is not None else self.model(), self.standing_pose)
+
+    def speed_limit_source(self, j: int) -> str:
+        """Where the speed limit of joint ``j`` (index in ``joint_names``) comes from (text)."""
+        if self.damping_speed[j] <= self.velocity_limit[j]:
+            return "torque limit / joint damping of the MJCF"
+        return "velocity_limits of the robot YAML"
 
     def facts(self) -> RobotFacts:
         """The numbers scenarios default from (:class:`gaitshift.scenario.facts.RobotFacts`)."""
@@ -289,6 +299,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         if not lo - 1e-9 <= a <= hi + 1e-9:
             raise InputError(f"robot.standing_pose.{n}", a, f"the joint range [{lo}, {hi}]")
     stand = tuple(pose.items())
+    damping = np.array([_mj.damping_speed_limit(model, j) for j in joints])
     return RobotConfig(
         name=cfg.name,
         description=cfg.description,
@@ -310,7 +321,8 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         joint_names=names,
         joint_range=rng,
         torque_limit=np.array([_mj.torque_limit(model, j) for j in joints]),
-        velocity_limit=np.array([cfg.velocity_limits.get(n, np.inf) for n in names]),
+        velocity_limit=np.minimum([cfg.velocity_limits.get(n, np.inf) for n in names], damping),
+        damping_speed=damping,
         mass=float(model.body_subtreemass[1]),
         com_height=_com_height(model, stand),
         leg_length=_leg_length(model, cfg),

@@ -10,8 +10,9 @@ Checks, each a :class:`Finding` (one line; ``ok`` False is a problem):
 * with a scenario, **reach and joint limits**: the whole-body IK (:mod:`gaitshift.wholebody.ik`) follows
   the plan at :data:`~gaitshift.wholebody.checks.CHECK_RATE` Hz within its tolerances (a foot out of
   reach, a straight knee or a joint held at its limit is reported with the time and the joint);
-* with a scenario, **joint speeds**: peak |q̇| of every joint against its limit (``velocity_limits`` of the
-  robot YAML: an MJCF has no joint speed attribute); joints without a limit are listed, not failed.
+* with a scenario, **joint speeds**: peak |q̇| of every joint against its limit (``RobotConfig.velocity_limit``:
+  the YAML's ``velocity_limits`` and the model's torque limit / joint damping); joints without a limit
+  are counted, not failed.
 """
 
 from __future__ import annotations
@@ -127,9 +128,10 @@ def _speed_findings(robot: RobotConfig, peak: np.ndarray) -> list[Finding]:
         Finding(
             "joint speed",
             False,
-            f"{robot.joint_names[j]} needs {peak[j]:.2f} rad/s, above its limit {lim[j]:.2f} rad/s",
+            f"{robot.joint_names[j]} needs {peak[j]:.2f} rad/s, above its limit {lim[j]:.2f} rad/s "
+            f"({robot.speed_limit_source(j)})",
         )
-        for j in np.flatnonzero(known & (peak > lim))
+        for j in (int(i) for i in np.flatnonzero(known & (peak > lim)))
     ]
     if np.any(known) and not out:
         ratio = np.where(known, peak / np.where(known, lim, 1.0), 0.0)
