@@ -41,12 +41,12 @@ def test_a_fall_exits_1_with_valid_json_metrics(tmp_path, capsys):
     assert (tmp_path / "s.npz").exists()
 
 
-def test_a_plan_faster_than_the_servos_damping_allows_is_refused_before_the_simulation(tmp_path, capsys):
-    """The OP3's servos (5 N m, damping 1.084 N m s/rad in its MJCF) turn at most 4.6 rad/s; the scaled G1
-    walk needs more, so simulate stops before any physics with one line naming joint, speed and limit."""
-    scaled = tmp_path / "op3-walk.yaml"
-    assert _run(["scale", "g1-walk", "--robot", "op3", "--out", str(scaled)], capsys)[0] == 0
+def test_a_plan_faster_than_the_makers_joint_speed_limits_is_refused_before_the_simulation(tmp_path, capsys):
+    """The H1's velocity_limits (Unitree's h1.urdf) are below what the scaled G1 walk needs of its 5-DoF
+    legs: simulate stops before any physics with one line naming the joint, its speed and its limit."""
+    scaled = tmp_path / "h1-walk.yaml"
+    assert _run(["scale", "g1-walk", "--robot", "h1", "--out", str(scaled)], capsys)[0] == 0
     code, _, err = _run(["simulate", str(scaled), "--out", str(tmp_path / "s.npz")], capsys)
     assert code == 2 and err.count("\n") == 1
-    assert "4.61 rad/s (torque limit / joint damping of the MJCF)" in err and "needs" in err
+    assert "rad/s, above its limit" in err and "(velocity_limits)" in err
     assert not (tmp_path / "s.npz").exists()

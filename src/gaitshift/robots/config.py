@@ -60,10 +60,11 @@ class RobotConfig:
         joint_names: every hinge/slide joint of the model in qpos order (free joint excluded).
         joint_range: (J, 2) lower/upper limit of each joint of ``joint_names``, rad; +-inf if unlimited.
         torque_limit: (J,) largest joint torque, N m; inf if the model gives none.
-        velocity_limit: (J,) largest joint speed, rad/s: the smaller of the YAML's ``velocity_limits``
-            and the model's torque limit / joint damping (:func:`gaitshift.robots.mjcf.damping_speed_limit`);
-            inf where neither gives one.
-        damping_speed: (J,) torque limit / joint damping of the model, rad/s (inf without damping).
+        velocity_limit: (J,) largest joint speed, rad/s, from the YAML's ``velocity_limits`` (the maker's
+            limits: the IK and ``simulate`` refuse plans above them); inf where the YAML gives none.
+        damping_speed: (J,) torque limit / joint damping of the model, rad/s (inf without damping): above
+            it the motor alone cannot drive the joint (:func:`gaitshift.robots.mjcf.damping_speed_limit`;
+            ``gaitshift robot check`` reports plans that need more).
         mass: total mass, kg.
         com_height: nominal CoM height above the sole plane in the standing pose, m.
         leg_length: hip-pitch axis to sole centre, leg straight, m.
@@ -133,11 +134,15 @@ class RobotConfig:
         """qpos of the standing pose: base at the origin, upright, joints from ``standing_pose``."""
         return _mj.standing_qpos(model if model is not None else self.model(), self.standing_pose)
 
-    def speed_limit_source(self, j: int) -> str:
-        """Where the speed limit of joint ``j`` (index in ``joint_names``) comes from (text)."""
-        if self.damping_speed[j] <= self.velocity_limit[j]:
-            return "torque limit / joint damping of the MJCF"
-        return "velocity_limits of the robot YAML"
+    def speed_limits(self) -> tuple[np.ndarray, list[str]]:
+        """The smaller of ``velocity_limit`` and ``damping_speed`` of each joint (J,) rad/s, and where each
+        comes from (text)."""
+        lim = np.minimum(self.velocity_limit, self.damping_speed)
+        src = [
+            "torque limit / joint damping of the MJCF" if d < v else "velocity_limits of the robot YAML"
+            for v, d in zip(self.velocity_limit, self.damping_speed, strict=True)
+        ]
+        return lim, src
 
     def facts(self) -> RobotFacts:
         """The numbers scenarios default from (:class:`gaitshift.scenario.facts.RobotFacts`)."""
@@ -321,7 +326,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         joint_names=names,
         joint_range=rng,
         torque_limit=np.array([_mj.torque_limit(model, j) for j in joints]),
-        velocity_limit=np.minimum([cfg.velocity_limits.get(n, np.inf) for n in names], damping),
+        velocity_limit=np.array([cfg.velocity_limits.get(n, np.inf) for n in names]),
         damping_speed=damping,
         mass=float(model.body_subtreemass[1]),
         com_height=_com_height(model, stand),

@@ -9,7 +9,8 @@
 * A joint with viscous damping b (N m s/rad, ``damping``) and torque limit tau_max cannot turn faster
   than tau_max / b even unloaded (the damping alone takes the whole torque): the no-load speed of a
   servo modelled this way (OP3: 5 N m / 1.084 N m s/rad = 4.6 rad/s). MJCF has no joint speed attribute;
-  this is the only joint speed limit a model states.
+  this is the only joint speed bound a model states (a passive joint can still be swung faster by the
+  motion of the others).
 """
 
 from __future__ import annotations

@@ -2,8 +2,7 @@
 
 The whole-body IK (:mod:`gaitshift.wholebody.ik`) is solved at :data:`CHECK_RATE` Hz (the joint speeds
 are its central differences on the configuration manifold), and the peak |q̇_j| of every joint with a
-limit (``RobotConfig.velocity_limit``: the robot YAML's ``velocity_limits``, the MJCF's torque limit / joint
-damping) is compared with it. Sampling at 100 Hz underestimates
+limit in the robot YAML (``velocity_limits``) is compared with it. Sampling at 100 Hz underestimates
 a peak by O((ω Δt)^2) for a motion of angular frequency ω: < 2 % for steps of 0.3 s and longer.
 """
 
@@ -41,7 +40,7 @@ def peak_joint_speeds(robot: RobotConfig, traj: Trajectory) -> np.ndarray | None
 
 def check_joint_speeds(robot: RobotConfig, traj: Trajectory) -> None:
     """Raise :class:`JointSpeedError` naming the joint, its peak speed and its limit when the plan's
-    whole-body motion exceeds a joint's speed limit (``RobotConfig.velocity_limit``); nothing without limits.
+    whole-body motion exceeds a ``velocity_limits`` entry of the robot YAML; nothing without limits.
 
     Raises:
         JointSpeedError: the worst joint over its limit.
@@ -56,7 +55,7 @@ def check_joint_speeds(robot: RobotConfig, traj: Trajectory) -> None:
     if ratio[j] > 1.0:
         raise JointSpeedError(
             f"{robot.name}: joint {robot.joint_names[j]} needs {peak[j]:.2f} rad/s, above its limit "
-            f"{robot.velocity_limit[j]:.2f} rad/s ({robot.speed_limit_source(j)}); slow the plan down (longer "
+            f"{robot.velocity_limit[j]:.2f} rad/s (velocity_limits); slow the plan down (longer "
             "steps) or "
             "use a lower CoM height"
         )

@@ -11,8 +11,9 @@ Checks, each a :class:`Finding` (one line; ``ok`` False is a problem):
   the plan at :data:`~gaitshift.wholebody.checks.CHECK_RATE` Hz within its tolerances (a foot out of
   reach, a straight knee or a joint held at its limit is reported with the time and the joint);
 * with a scenario, **joint speeds**: peak |q̇| of every joint against its limit (``RobotConfig.velocity_limit``:
-  the YAML's ``velocity_limits`` and the model's torque limit / joint damping); joints without a limit
-  are counted, not failed.
+  the YAML's ``velocity_limits``, and the model's torque limit / joint damping, the speed above which the
+  motor alone cannot drive the joint: ``RobotConfig.speed_limits``); joints without a limit are counted,
+  not failed.
 """
 
 from __future__ import annotations
@@ -122,14 +123,13 @@ def _limit_finding(robot: RobotConfig, qpos: np.ndarray) -> Finding:
 
 
 def _speed_findings(robot: RobotConfig, peak: np.ndarray) -> list[Finding]:
-    lim = robot.velocity_limit
+    lim, source = robot.speed_limits()
     known = np.isfinite(lim)
     out = [
         Finding(
             "joint speed",
             False,
-            f"{robot.joint_names[j]} needs {peak[j]:.2f} rad/s, above its limit {lim[j]:.2f} rad/s "
-            f"({robot.speed_limit_source(j)})",
+            f"{robot.joint_names[j]} needs {peak[j]:.2f} rad/s, above its limit {lim[j]:.2f} rad/s ({source[j]})",
         )
         for j in (int(i) for i in np.flatnonzero(known & (peak > lim)))
     ]
