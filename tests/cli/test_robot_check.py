@@ -57,3 +57,18 @@ def test_op3_servos_are_too_slow_for_the_scaled_walk(cli, tmp_path):
     problems = [x for x in out.splitlines() if x.startswith("PROBLEM")]
     assert code == 1 and problems
     assert all("joint speed" in p and "above its limit 4.61 rad/s (torque limit / joint damping" in p for p in problems)
+
+
+def test_robot_errors_are_one_line_with_exit_2(cli, tmp_path):
+    """Unknown name: the valid names; missing file: "no such file"; missing key: that key alone."""
+    code, _, err = cli(["robot", "check", "nao"])
+    assert code == 2 and err.count("\n") == 1 and "berkeley, g1, h1, op3, t1" in err and "no such file" not in err
+    code, _, err = cli(["robot", "check", str(tmp_path / "mine.yaml")])
+    assert code == 2 and err.count("\n") == 1 and "no such file" in err
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("\n".join(line for line in _yaml("t1").splitlines() if not line.startswith("knees:")))
+    code, _, err = cli(["robot", "check", str(bad)])
+    assert (
+        code == 2
+        and err.strip() == "gaitshift: error: robot.knees = missing is invalid: allowed a value (required key)"
+    )
