@@ -1,6 +1,7 @@
 """Per-robot sweep of issue 12: for each shipped robot, scale a G1 walk and walk-run-walk scenario to it
-(``--time-scale froude`` for OP3), solve the whole-body IK, simulate closed loop, and print one table
-row per run with the numbers of docs/robots.md. Long (minutes): run alone, one sim at a time.
+(``--time-scale froude`` for OP3), solve the whole-body IK (joint speeds not refused, measured: peak and
+fraction of ``RobotConfig.speed_limits``), simulate closed loop (no joint-speed pre-check, unlike the
+CLI), and print one table row per run with the numbers of docs/robots.md. Long (minutes): run alone.
 
     python benchmarks/robots.py [ROBOT ...]
 """
@@ -13,8 +14,9 @@ import numpy as np
 
 from gaitshift.api import plan
 from gaitshift.robots import load_robot
+from gaitshift.robots.statics import standing_statics
 from gaitshift.sim.loop import simulate
-from gaitshift.wholebody.ik import IKInfeasibleError, wholebody
+from gaitshift.wholebody.ik import IKInfeasibleError, IKSettings, WholeBodyIK
 from gaitshift.wholebody.scaling import scale_scenario
 
 ROBOTS = ("g1", "t1", "h1", "op3", "berkeley")
@@ -30,13 +32,19 @@ def run(name: str, scenario: str) -> dict[str, object]:
     traj = plan(sc)
     row: dict[str, object] = {"robot": name, "scenario": scenario, "com_height": traj.meta.get("height")}
     try:
-        ik = wholebody(traj, robot, rate=1.0 / (10 * traj.dt))
-        vj = np.max(np.abs(ik.qvel[:, 6:]), axis=0)
+        ik = WholeBodyIK(robot, IKSettings()).solve(traj, 1.0 / (10 * traj.dt), check_velocities=False)
+        model = robot.model()
+        vadr = [model.jnt_dofadr[model.joint(n).id] for n in robot.joint_names]
+        vj = np.max(np.abs(ik.qvel[:, vadr]), axis=0)
         row["ik_com_mm"] = 1e3 * ik.meta["ik"]["max_com_error_m"]
         row["ik_sole_mm"] = 1e3 * ik.meta["ik"]["max_sole_position_error_m"]
-        row["peak_speed"] = float(vj.max())
-        lim = robot.velocity_limit
-        row["speed_frac"] = float(np.max(vj / lim)) if np.any(np.isfinite(lim)) else None
+        j = int(np.argmax(vj))
+        row["peak_speed"] = f"{vj[j]:.2f} ({robot.joint_names[j]})"
+        lim, _ = robot.speed_limits()
+        if np.any(np.isfinite(lim)):
+            frac = np.where(np.isfinite(lim), vj / np.where(np.isfinite(lim), lim, 1.0), 0.0)
+            k = int(np.argmax(frac))
+            row["speed_frac"] = f"{frac[k]:.2f} ({robot.joint_names[k]})"
     except IKInfeasibleError as exc:
         row["ik"] = str(exc)
     res = simulate(traj, robot=robot)
@@ -45,6 +53,7 @@ def run(name: str, scenario: str) -> dict[str, object]:
     row.update(
         fell=m["fell"],
         fall=m.get("fall_reason"),
+        fall_time=m.get("fall_time"),
         steps=f"{m['steps_completed']}/{m['steps_planned']}",
         stride=float(np.max(strides)) if len(strides) else 0.0,
         speed=m.get("mean_forward_speed_max"),
@@ -57,7 +66,12 @@ def run(name: str, scenario: str) -> dict[str, object]:
 def main(robots: list[str]) -> None:
     for name in robots or ROBOTS:
         r = load_robot(name)
-        print(f"# {name}: mass {r.mass:.2f} kg, leg {r.leg_length:.3f} m, CoM height {r.com_height:.3f} m", flush=True)
+        st = standing_statics(r)
+        print(
+            f"# {name}: mass {r.mass:.2f} kg, leg {r.leg_length:.3f} m, CoM height {r.com_height:.3f} m, "
+            f"standing torque {st.torque_fraction.max():.2f} of the limit",
+            flush=True,
+        )
         for scenario in SCENARIOS:
             print(run(name, scenario), flush=True)
 

@@ -60,3 +60,16 @@ def test_berkeley_sole_frame_from_its_foot_box_is_level_although_the_foot_link_i
     body = d.xmat[m.body(robot.sole_bodies[0]).id].reshape(3, 3)
     assert body[2, 2] < np.cos(np.radians(20.0))  # the link itself is rotated against the world
     assert d.site_xmat[m.site(robot.SOLE_SITES[0]).id].reshape(3, 3)[2, 2] > np.cos(np.radians(1.0))
+
+
+def test_op3_servo_speed_bound_is_torque_over_damping_read_from_the_mjcf_text():
+    """MJCF text: default joint damping 1.084 N m s/rad, position servos forcerange 5 N m: 4.61 rad/s."""
+    import re
+
+    robot = load_robot("op3")
+    text = robot.mjcf.read_text()
+    damping = float(re.search(r'<joint damping="([0-9.]+)"', text).group(1))
+    force = float(re.search(r'forcerange="-?[0-9.]+ ([0-9.]+)"', text).group(1))
+    assert np.allclose(robot.damping_speed, force / damping)
+    assert np.allclose(robot.speed_limits()[0], force / damping) and np.all(np.isinf(robot.velocity_limit))
+    assert np.all(np.isinf(load_robot("t1").speed_limits()[0]))  # no damping, no YAML limits: unchecked

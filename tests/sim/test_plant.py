@@ -95,3 +95,38 @@ def test_leg_flexion_keeps_the_soles_flat_on_the_floor_and_the_arms_at_the_yaml_
     _, soles, rot = forward_kinematics(m, q[None], robot.sole_bodies, robot.sole_offsets)
     np.testing.assert_allclose(soles[0, :, 2], 0.0, atol=1e-12)
     assert np.all(tilt(rot) < 1e-9)
+
+
+APOLLO = """name: apollo
+mjcf: asset:mujoco/playground/assets/mujoco_menagerie/apptronik_apollo/apptronik_apollo.xml
+soles: {left: {body: l_foot_link}, right: {body: r_foot_link}}
+sole_orientation: geoms
+torso: torso_link
+hips: [l_hip_fe, r_hip_fe]
+knees: [l_knee_fe, r_knee_fe]
+leg_joints: [l_hip_ie, l_hip_aa, l_hip_fe, l_knee_fe, l_ankle_ie, l_ankle_pd,
+             r_hip_ie, r_hip_aa, r_hip_fe, r_knee_fe, r_ankle_ie, r_ankle_pd]
+"""
+
+
+def test_feet_of_a_model_with_frictionless_collision_free_defaults_touch_the_floor_with_friction(tmp_path):
+    """Apollo's default geom is ``condim=1 contype=0 conaffinity=0`` (its scene adds foot-floor pairs): the
+    floor the plant adds must still collide with the feet, with a friction cone (contact dim 3)."""
+    path = tmp_path / "apollo.yaml"
+    path.write_text(APOLLO)
+    p = build_plant(0.002, path)
+    m = p.model
+    raw = mujoco.MjModel.from_xml_path(str(load_robot(path).mjcf))
+    assert raw.geom_condim[0] == 1 and raw.geom_contype[0] == 0  # the shipped defaults that caused it
+    d = mujoco.MjData(m)
+    d.qpos[:] = standing_qpos(p)
+    d.qpos[2] -= 1e-3  # soles 1 mm into the floor
+    mujoco.mj_forward(m, d)
+    feet = {g: s for s in (0, 1) for g in p.soles[s].geoms}
+    dims = {}
+    for c in d.contact[: d.ncon]:
+        other = c.geom[1] if c.geom[0] == p.floor_geom else c.geom[0] if c.geom[1] == p.floor_geom else None
+        if other in feet:
+            dims.setdefault(feet[other], set()).add(int(c.dim))
+            assert c.friction[0] > 0
+    assert dims == {0: {3}, 1: {3}}

@@ -34,9 +34,19 @@ def test_unknown_robot_lists_the_names_and_a_missing_file_says_no_such_file(tmp_
 
 
 def test_a_fall_exits_1_with_valid_json_metrics(tmp_path, capsys):
-    scaled = tmp_path / "op3-walk.yaml"
-    assert _run(["scale", "g1-walk", "--robot", "op3", "--out", str(scaled)], capsys)[0] == 0
-    code, out, _ = _run(["simulate", str(scaled), "--out", str(tmp_path / "s.npz"), "--json"], capsys)
+    """A lateral impulse of 60 N s on the 33 kg G1 (1.8 m/s sideways at mid-stance of step 4) is a fall."""
+    code, out, _ = _run(["simulate", "g1-walk", "--push", "60", "--out", str(tmp_path / "s.npz"), "--json"], capsys)
     metrics = json.loads(out)
     assert code == 1 and metrics["fell"] is True and metrics["fall_time"] > 0
     assert (tmp_path / "s.npz").exists()
+
+
+def test_a_plan_faster_than_the_makers_joint_speed_limits_is_refused_before_the_simulation(tmp_path, capsys):
+    """The H1's velocity_limits (Unitree's h1.urdf) are below what the scaled G1 walk needs of its 5-DoF
+    legs: simulate stops before any physics with one line naming the joint, its speed and its limit."""
+    scaled = tmp_path / "h1-walk.yaml"
+    assert _run(["scale", "g1-walk", "--robot", "h1", "--out", str(scaled)], capsys)[0] == 0
+    code, _, err = _run(["simulate", str(scaled), "--out", str(tmp_path / "s.npz")], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert "rad/s, above its limit" in err and "(velocity_limits)" in err
+    assert not (tmp_path / "s.npz").exists()

@@ -104,3 +104,36 @@ def scale_cmd(
     with atomic_path(out) as tmp:
         tmp.write_text(scenario_yaml(scaled, header))
     typer.echo(f"scaled {sc.name} by {scale_factor(sc, robot):.4f} for {robot} -> {out}")
+
+
+robot_app = typer.Typer(
+    help="Robot tools: check a robot (and a scenario on it) before simulating.", no_args_is_help=True
+)
+app.add_typer(robot_app, name="robot")
+
+
+@robot_app.command("check")
+def robot_check_cmd(
+    robot: str = typer.Argument(..., help="Built-in robot name or robot YAML path."),
+    scenario: str | None = typer.Argument(
+        None, help="Scenario (built-in name or YAML) to check on the robot, as `gaitshift simulate` would run it."
+    ),
+) -> None:
+    """Report, before any simulation, what will fail: sole frame, balance and static torque in the
+    standing pose; with SCENARIO also reach, joint limits and joint speeds of its whole-body motion.
+
+    One line per check; exits 1 when any line is a PROBLEM, 0 otherwise."""
+    from gaitshift.robots import load_robot
+    from gaitshift.wholebody.robot_check import check_plan_for, robot_check
+
+    if scenario is None:
+        cfg, traj = load_robot(robot), None
+    else:
+        cfg, traj = check_plan_for(scenario, robot)
+    findings = robot_check(cfg, traj)
+    for f in findings:
+        typer.echo(f.line())
+    problems = sum(not f.ok for f in findings)
+    typer.echo(f"{cfg.name}: {problems} problem{'s' if problems != 1 else ''}")
+    if problems:
+        raise typer.Exit(1)

@@ -60,7 +60,11 @@ class RobotConfig:
         joint_names: every hinge/slide joint of the model in qpos order (free joint excluded).
         joint_range: (J, 2) lower/upper limit of each joint of ``joint_names``, rad; +-inf if unlimited.
         torque_limit: (J,) largest joint torque, N m; inf if the model gives none.
-        velocity_limit: (J,) largest joint speed, rad/s; inf where the config gives none.
+        velocity_limit: (J,) largest joint speed, rad/s, from the YAML's ``velocity_limits`` (the maker's
+            limits: the IK and ``simulate`` refuse plans above them); inf where the YAML gives none.
+        damping_speed: (J,) torque limit / joint damping of the model, rad/s (inf without damping): above
+            it the motor alone cannot drive the joint (:func:`gaitshift.robots.mjcf.damping_speed_limit`;
+            ``gaitshift robot check`` reports plans that need more).
         mass: total mass, kg.
         com_height: nominal CoM height above the sole plane in the standing pose, m.
         leg_length: hip-pitch axis to sole centre, leg straight, m.
@@ -90,6 +94,7 @@ class RobotConfig:
     joint_range: np.ndarray
     torque_limit: np.ndarray
     velocity_limit: np.ndarray
+    damping_speed: np.ndarray
     mass: float
     com_height: float
     leg_length: float
@@ -128,6 +133,16 @@ class RobotConfig:
     def standing_qpos(self, model: Any = None) -> np.ndarray:
         """qpos of the standing pose: base at the origin, upright, joints from ``standing_pose``."""
         return _mj.standing_qpos(model if model is not None else self.model(), self.standing_pose)
+
+    def speed_limits(self) -> tuple[np.ndarray, list[str]]:
+        """The smaller of ``velocity_limit`` and ``damping_speed`` of each joint (J,) rad/s, and where each
+        comes from (text)."""
+        lim = np.minimum(self.velocity_limit, self.damping_speed)
+        src = [
+            "torque limit / joint damping of the MJCF" if d < v else "velocity_limits of the robot YAML"
+            for v, d in zip(self.velocity_limit, self.damping_speed, strict=True)
+        ]
+        return lim, src
 
     def facts(self) -> RobotFacts:
         """The numbers scenarios default from (:class:`gaitshift.scenario.facts.RobotFacts`)."""
@@ -289,6 +304,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         if not lo - 1e-9 <= a <= hi + 1e-9:
             raise InputError(f"robot.standing_pose.{n}", a, f"the joint range [{lo}, {hi}]")
     stand = tuple(pose.items())
+    damping = np.array([_mj.damping_speed_limit(model, j) for j in joints])
     return RobotConfig(
         name=cfg.name,
         description=cfg.description,
@@ -311,6 +327,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         joint_range=rng,
         torque_limit=np.array([_mj.torque_limit(model, j) for j in joints]),
         velocity_limit=np.array([cfg.velocity_limits.get(n, np.inf) for n in names]),
+        damping_speed=damping,
         mass=float(model.body_subtreemass[1]),
         com_height=_com_height(model, stand),
         leg_length=_leg_length(model, cfg),

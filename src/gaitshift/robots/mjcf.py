@@ -6,6 +6,11 @@
   sole orientation, so that the IK, the plant and the metrics all read the same sole frame.
 * The torque limit of a joint is its ``actuatorfrcrange``, else the force range of the motor driving
   it, else the control range of a plain motor (gain x gear).
+* A joint with viscous damping b (N m s/rad, ``damping``) and torque limit tau_max cannot turn faster
+  than tau_max / b even unloaded (the damping alone takes the whole torque): the no-load speed of a
+  servo modelled this way (OP3: 5 N m / 1.084 N m s/rad = 4.6 rad/s). MJCF has no joint speed attribute;
+  this is the only joint speed bound a model states (a passive joint can still be swung faster by the
+  motion of the others).
 """
 
 from __future__ import annotations
@@ -86,6 +91,13 @@ def torque_limit(model: Any, j: int) -> float:
             if model.actuator_biastype[a] == 0 and model.actuator_ctrllimited[a]:
                 return float(np.max(np.abs(model.actuator_ctrlrange[a]))) * gear
     return math.inf
+
+
+def damping_speed_limit(model: Any, j: int) -> float:
+    """Largest speed of joint ``j``, rad/s: torque limit / viscous damping (module docstring); inf
+    without damping or torque limit."""
+    b = float(model.dof_damping[model.jnt_dofadr[j]])
+    return torque_limit(model, j) / b if b > 0 else math.inf
 
 
 def standing_qpos(model: Any, pose: tuple[tuple[str, float], ...]) -> np.ndarray:

@@ -20,7 +20,8 @@
                        which the standing pose is computed by IK (:mod:`gaitshift.robots.standing`);
                        default: 0.92 x the CoM height with straight legs
 ``velocity_limits``    (optional) {joint: rad/s}; MJCF has no velocity limits, so they come from the
-                       maker's URDF (``velocity_limits_source`` says which)
+                       maker's URDF (``velocity_limits_source`` says which); ``gaitshift robot check``
+                       also checks torque limit / joint damping (:mod:`gaitshift.robots.mjcf`)
 ``control``            (optional) whole-body controller gains for this robot {name: value}; the names
                        are the fields of ``gaitshift.control.wbc.Gains`` (docs/robots.md)
 =====================  ========================================================================

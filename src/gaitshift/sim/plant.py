@@ -137,10 +137,21 @@ def _torque_motors(spec: mujoco.MjSpec, robot: RobotConfig) -> None:
 
 
 def _floor(spec: mujoco.MjSpec) -> None:
-    """Add a floor plane when the world body has none."""
+    """Add a floor plane when the world body has none.
+
+    Like the floor of a model's own ``scene.xml``, it takes the MJCF's default geom class (its solref,
+    solimp and friction, e.g. the OP3's stiff ``solref``), except that it always collides and carries
+    friction: ``contype``/``conaffinity`` are MuJoCo's built-in defaults and ``condim`` is at least the
+    built-in one (3, a friction cone). A model whose default geom is frictionless and collision-free
+    (Apollo: ``condim="1" contype="0"``; its scene adds foot-floor ``<pair>``s) would otherwise have
+    its feet pass through the floor, or slide on it.
+    """
     if any(g.type == mujoco.mjtGeom.mjGEOM_PLANE for g in spec.worldbody.geoms):
         return
-    spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05])
+    builtin = mujoco.MjSpec().default.geom
+    floor = spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05])
+    floor.contype, floor.conaffinity = builtin.contype, builtin.conaffinity
+    floor.condim = max(floor.condim, builtin.condim)
 
 
 def _feet_collide(spec: mujoco.MjSpec, robot: RobotConfig) -> None:

@@ -55,6 +55,7 @@ def check_joint_speeds(robot: RobotConfig, traj: Trajectory) -> None:
     if ratio[j] > 1.0:
         raise JointSpeedError(
             f"{robot.name}: joint {robot.joint_names[j]} needs {peak[j]:.2f} rad/s, above its limit "
-            f"{robot.velocity_limit[j]:.2f} rad/s (velocity_limits); slow the plan down (longer steps) or "
+            f"{robot.velocity_limit[j]:.2f} rad/s (velocity_limits); slow the plan down (longer "
+            "steps) or "
             "use a lower CoM height"
         )
