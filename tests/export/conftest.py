@@ -1,5 +1,6 @@
 """Motion files of the export tests, made once per session through the CLI: G1 and T1 plans (the
-T1's is g1-walk scaled to the T1), a G1 simulation log, and their exports in both formats."""
+T1's is g1-walk scaled to the T1), a G1 simulation log, the Rerun recordings of the G1 plan and run,
+and their exports in both formats."""
 
 from __future__ import annotations
 
@@ -19,13 +20,15 @@ def run(argv: list[str]) -> int:
 
 @pytest.fixture(scope="session")
 def motions(tmp_path_factory) -> dict[str, Path]:
-    """Source files: ``g1-plan``, ``t1-plan`` (plans, .npz) and ``g1-sim`` (simulation log)."""
+    """Source files: ``g1-plan``, ``t1-plan`` (plans, .npz), ``g1-sim`` (simulation log), and the
+    recordings ``g1-plan-rrd`` and ``g1-sim-rrd`` (.rrd) made by the same commands."""
     d = tmp_path_factory.mktemp("motions")
     assert run(["scale", "g1-walk", "--robot", "t1", "--out", d / "t1-walk.yaml"]) == 0
     files = {"g1-plan": d / "g1-plan.npz", "t1-plan": d / "t1-plan.npz", "g1-sim": d / "g1-sim.npz"}
-    assert run(["plan", "g1-walk", "--out", files["g1-plan"]]) == 0
+    files |= {"g1-plan-rrd": d / "g1-plan.rrd", "g1-sim-rrd": d / "g1-sim.rrd"}
+    assert run(["plan", "g1-walk", "--out", files["g1-plan"], "--rerun", files["g1-plan-rrd"]]) == 0
     assert run(["plan", d / "t1-walk.yaml", "--out", files["t1-plan"]]) == 0
-    assert run(["simulate", "g1-walk", "--out", files["g1-sim"]]) == 0
+    assert run(["simulate", "g1-walk", "--out", files["g1-sim"], "--rerun", files["g1-sim-rrd"]]) == 0
     return files
 
 

@@ -31,6 +31,7 @@ def simulate_cmd(
     latency: int | None = typer.Option(None, "--latency", help="Loop latency, ticks (sensing + actuation; 0)."),
     friction: float | None = typer.Option(None, "--friction", help="The floor's friction coefficient."),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
+    rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
 ) -> None:
     """Simulate SCENARIO on a robot (MuJoCo) and print the summary metrics; exit 1 when it falls.
 
@@ -40,6 +41,7 @@ def simulate_cmd(
     from gaitshift.api import plan, robot_facts, with_robot
     from gaitshift.common.jsonsafe import finite_json
     from gaitshift.control.drivers import driver_for
+    from gaitshift.export.sim_recording import record_simulation
     from gaitshift.robots import load_robot
     from gaitshift.scenario import load_scenario
     from gaitshift.sim.loop import SimOptions, simulate
@@ -56,6 +58,7 @@ def simulate_cmd(
         latency=latency,
         friction=friction,
         seed=seed,
+        rerun=rerun,
     )
     sc, robot_name = with_robot(load_scenario(scenario), robot)
     cfg = load_robot(robot_name)
@@ -74,6 +77,8 @@ def simulate_cmd(
     if replanner is not None:
         traj = replanner.trajectory  # the plan as finally re-planned from the measured states
     result.save(out)
+    if rerun is not None:
+        record_simulation(result, traj, cfg, rerun)
     if figures is not None:
         from gaitshift.plots.sim import plot_all
 
@@ -84,12 +89,14 @@ def simulate_cmd(
     else:
         typer.echo(_summary_line(sc.name, cfg.name, traj, replanner, result.meta))
         typer.echo(format_metrics(result.metrics))
-    typer.echo(f"wrote {out}" + (f", {video}" if video else ""), err=as_json)
+    typer.echo(f"wrote {out}" + (f", {video}" if video else "") + (f", {rerun}" if rerun else ""), err=as_json)
     if result.fell:
         raise typer.Exit(1)
 
 
-def sensing_flags(out: Path, video: Path | None, push: float, **given: Any) -> dict[str, Any]:
+def sensing_flags(
+    out: Path, video: Path | None, push: float, rerun: Path | None = None, **given: Any
+) -> dict[str, Any]:
     """Check ``simulate``'s file and push flags and return the given sensing flags as SimOptions fields.
 
     A bad sensing value is reported under its flag's name (``--noise-scale``), not the option's."""
@@ -101,6 +108,11 @@ def sensing_flags(out: Path, video: Path | None, push: float, **given: Any) -> d
         raise InputError("--video", str(video), "a file ending in .mp4")
     if push < 0:
         raise InputError("--push", push, "an impulse >= 0 N s")
+    if rerun is not None:
+        from gaitshift.cli.app import out_file
+        from gaitshift.export.recording import check_rrd
+
+        check_rrd(out_file(rerun, "--rerun", (".rrd",)))
     flags = {k: v for k, v in given.items() if v is not None}
     try:
         SimOptions(**flags)
