@@ -32,6 +32,8 @@ def simulate_cmd(
     friction: float | None = typer.Option(None, "--friction", help="The floor's friction coefficient."),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
     rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
+    video_size: str | None = typer.Option(None, "--video-size", help="Video size WIDTHxHEIGHT, pixels (1280x720)."),
+    video_fps: int | None = typer.Option(None, "--video-fps", help="Video frame rate, Hz (30)."),
 ) -> None:
     """Simulate SCENARIO on a robot (MuJoCo) and print the summary metrics; exit 1 when it falls.
 
@@ -48,18 +50,8 @@ def simulate_cmd(
     from gaitshift.sim.metrics import format_metrics
     from gaitshift.sim.pushes import mid_stance_pushes
 
-    flags = sensing_flags(
-        out,
-        video,
-        push,
-        state=state,
-        noise=noise,
-        noise_scale=noise_scale,
-        latency=latency,
-        friction=friction,
-        seed=seed,
-        rerun=rerun,
-    )
+    sensing = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency, "friction": friction}
+    flags = sensing_flags(out, video, push, rerun, seed=seed, video_size=video_size, video_fps=video_fps, **sensing)
     sc, robot_name = with_robot(load_scenario(scenario), robot)
     cfg = load_robot(robot_name)
     replanner = driver_for(sc, robot_facts(sc), control_period)
@@ -114,6 +106,10 @@ def sensing_flags(
 
         check_rrd(out_file(rerun, "--rerun", (".rrd",)))
     flags = {k: v for k, v in given.items() if v is not None}
+    if "video_size" in flags:
+        from gaitshift.sim.video import parse_video_size
+
+        flags["video_size"] = parse_video_size(flags["video_size"])
     try:
         SimOptions(**flags)
     except InputError as exc:  # name the flag, not the option
