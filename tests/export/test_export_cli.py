@@ -41,6 +41,7 @@ def _cases(plan: Path, log: Path, tmp: Path):
         ([tmp / "corrupt.npz", "--format", "unitree-csv"], "m.csv", "SOURCE"),
         ([tmp / "missing.npz", "--format", "unitree-csv"], "m.csv", "SOURCE"),
         ([log, "--format", "unitree-csv", "--robot", "t1"], "m.csv", "--robot"),
+        ([plan, "--format", "unitree-csv", "--robot", "nao"], "m.csv", "--robot"),
     ]
 
 

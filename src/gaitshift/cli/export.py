@@ -24,7 +24,7 @@ def export_cmd(
     from gaitshift.cli.app import flags_named
     from gaitshift.export.motion import check_request, export_motion
 
-    flags = {"format": "--format", "fps": "--fps", "out": "--out", "input": "SOURCE"}
+    flags = {"format": "--format", "fps": "--fps", "out": "--out", "input": "SOURCE", "robot": "--robot"}
     with flags_named(flags):
         spec, _ = check_request(fmt, fps, out)
         out_file(out, "--out", (spec.suffix,))

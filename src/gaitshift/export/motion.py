@@ -53,7 +53,7 @@ def export_motion(
     """
     spec, rate = check_request(fmt, fps, out)
     motion = load_source(source, robot, rate)
-    t, qpos, qvel = resample(motion.t, motion.qpos, motion.qvel, rate)
+    t, qpos, qvel = resample(motion.t, motion.qpos, rate)
     frames = Frames(rate, qpos, qvel, motion.robot.model())
     with atomic_path(out) as tmp:
         spec.write(frames, tmp)

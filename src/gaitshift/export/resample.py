@@ -1,18 +1,22 @@
 """Resampling a configuration trajectory to new frame times.
 
 A trajectory is sampled at times ``t`` (N,), increasing, with MuJoCo configurations ``qpos`` (N, nq)
-of a floating-base robot (free joint first: x, y, z, qw, qx, qy, qz) and velocities ``qvel`` (N, nv)
-(free joint: world linear velocity of the base origin, then body-frame angular velocity). At a frame
-time tau in [t_i, t_{i+1}] with w = (tau - t_i) / (t_{i+1} - t_i):
+of a floating-base robot (free joint first: x, y, z, qw, qx, qy, qz; then one coordinate per hinge).
+At a frame time tau in [t_i, t_{i+1}] with w = (tau - t_i) / (t_{i+1} - t_i):
 
 * positions and hinge angles are interpolated linearly, x(tau) = (1 - w) x_i + w x_{i+1};
 * the base quaternion by slerp, q(tau) = q_i (q_i^-1 q_{i+1})^w, on the source quaternions made
   continuous first (q_{i+1} -> -q_{i+1} whenever q_i . q_{i+1} < 0, the same rotation), so that the
-  result has no sign flip either;
-* velocities linearly, v(tau) = (1 - w) v_i + w v_{i+1}: the velocity of the source at its own rate
-  (measured, or central differences of the IK solution), so that the exported velocities are the
-  derivative of the exported positions up to the interpolation error, O(dt_source^2), and the
-  central-difference error at the output rate, O(1/fps^2).
+  result has no sign flip either.
+
+The velocities (MuJoCo qvel layout: world linear velocity of the base, its body-frame angular
+velocity, the hinge rates) are the central differences of the resampled frames, h = 1/fps:
+v_k = (x_{k+1} - x_{k-1}) / 2h, omega_k = log(q_{k-1}^-1 q_{k+1}) / 2h, one-sided at both ends, as
+mjlab's ``csv_to_npz`` derives them (``torch.gradient`` and an SO(3) difference). The exported
+velocities are then the derivative of the exported positions, exact at the frame rate (a velocity
+step of the source, an impact or a kink of the IK, is spread over two frames instead of appearing
+as a value that no difference of the positions reproduces); they are within O(h^2) of the source's
+own velocity elsewhere.
 """
 
 from __future__ import annotations
@@ -62,9 +66,35 @@ def frame_times(t: np.ndarray, fps: float) -> np.ndarray:
     return np.asarray(t[0] + np.arange(n) / fps, dtype=float)
 
 
-def resample(
-    t: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, fps: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def rotation_vector(q: np.ndarray) -> np.ndarray:
+    """Rotation vectors (..., 3) of unit quaternions (..., 4) (w first), the shorter way round."""
+    q = np.where(q[..., :1] < 0, -q, q)
+    s = np.linalg.norm(q[..., 1:], axis=-1)
+    angle = 2.0 * np.arctan2(s, q[..., 0])
+    return np.asarray(q[..., 1:] * np.where(s > 1e-12, angle / np.maximum(s, 1e-300), 2.0)[..., None], dtype=float)
+
+
+def relative_quaternion(q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
+    """q0^-1 q1 (..., 4) of unit quaternions (w first)."""
+    w0, v0 = q0[..., :1], -q0[..., 1:]
+    w1, v1 = q1[..., :1], q1[..., 1:]
+    return np.concatenate([w0 * w1 - np.sum(v0 * v1, -1, keepdims=True), w0 * v1 + w1 * v0 + np.cross(v0, v1)], -1)
+
+
+def central_velocities(qpos: np.ndarray, h: float) -> np.ndarray:
+    """qvel (F, nq - 1) of frames ``qpos`` (F, nq) ``h`` s apart: central differences (see module
+    docstring), one-sided at the ends."""
+    n = len(qpos)
+    lo, hi = np.r_[0, np.arange(n - 2), n - 2], np.r_[1, np.arange(2, n), n - 1]
+    span = (hi - lo)[:, None] * h
+    v = np.empty((n, qpos.shape[1] - 1))
+    v[:, 0:3] = (qpos[hi, 0:3] - qpos[lo, 0:3]) / span
+    v[:, 3:6] = rotation_vector(relative_quaternion(qpos[lo, 3:7], qpos[hi, 3:7])) / span
+    v[:, 6:] = (qpos[hi, 7:] - qpos[lo, 7:]) / span
+    return v
+
+
+def resample(t: np.ndarray, qpos: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(times (F,), qpos (F, nq), qvel (F, nv)) at ``fps`` Hz from the source samples (see module
     docstring); the base quaternion of the result is continuous."""
     tau = frame_times(t, fps)
@@ -73,5 +103,4 @@ def resample(
     quats = continuous_quaternions(qpos[:, 3:7])
     out_q = (1.0 - w)[:, None] * qpos[i] + w[:, None] * qpos[i + 1]
     out_q[:, 3:7] = continuous_quaternions(slerp(quats[i], quats[i + 1], w))
-    out_v = (1.0 - w)[:, None] * qvel[i] + w[:, None] * qvel[i + 1]
-    return tau, out_q, out_v
+    return tau, out_q, central_velocities(out_q, 1.0 / fps)

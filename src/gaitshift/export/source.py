@@ -1,11 +1,14 @@
 """The motion to export: MuJoCo configurations of one robot over time, from a plan or a simulation log.
 
 * a plan (``gaitshift plan ... --out plan.npz``, the trajectory contract): the whole-body IK
-  (:mod:`gaitshift.wholebody.ik`) solves q(t) at a rate of 1/(k dt) >= max(200 Hz, 4 fps) (k integer),
-  q̇ by central differences on the configuration manifold; the kinematic motion;
+  (:mod:`gaitshift.wholebody.ik`) solves q(t) at a rate of 1/(k dt) >= max(200 Hz, 4 fps) (k integer)
+  (its q̇: central differences on the configuration manifold); the kinematic motion;
 * a simulation log (``gaitshift simulate ... --out sim.npz``, :class:`gaitshift.sim.result.SimResult`):
   the logged ``qpos`` and ``qvel`` of every control tick, the motion the robot actually made (up to
   the fall, if it fell).
+
+The export resamples ``qpos`` and differentiates the frames (:mod:`gaitshift.export.resample`); the
+source's ``qvel`` is kept for comparison.
 
 The robot is ``--robot``, else the one the file names (a log's ``meta.robot``, a plan's
 ``meta.scenario.robot``); a log is tied to its robot, so another ``--robot`` is an error.
