@@ -1,4 +1,5 @@
-"""Every flag of the core, slip and bench commands keeps the error contract: a bad value (negative,
+"""Every flag of the core, slip and bench commands (and the video, Rerun and export flags) keeps the
+error contract: a bad value (negative,
 NaN, inf, text for a number, an unknown name, a missing file, a folder or a device given as an output
 file, a file given as an output folder, an unwritable location) ends in exactly one line on stderr
 that names the flag, the value and what is allowed, exit code 2, no traceback and no file written.
@@ -77,6 +78,21 @@ CASES = [
     ),
     (["demo", "--no-video", "--out", "{tmp}/file.npz"], "--out", "file.npz"),
     (["demo", "--no-video", "--out", "/proc/gaitshift/demo"], "--out", "/proc/gaitshift/demo"),
+    (
+        ["simulate", "g1-walk", "--out", "{tmp}/s.npz", "--video", "{tmp}/v.mp4", "--video-size", "13x7"],
+        "--video-size",
+        "13x7",
+    ),
+    (
+        ["simulate", "g1-walk", "--out", "{tmp}/s.npz", "--video", "{tmp}/v.mp4", "--video-size", "hd"],
+        "--video-size",
+        "hd",
+    ),
+    (["simulate", "g1-walk", "--out", "{tmp}/s.npz", "--video", "{tmp}/v.mp4", "--video-fps", "0"], "--video-fps", "0"),
+    (["simulate", "g1-walk", "--out", "{tmp}/s.npz", "--rerun", "{tmp}/r.txt"], "--rerun", "r.txt"),
+    (["simulate", "g1-walk", "--out", "{tmp}/s.npz", "--rerun", "{tmp}/dir.npz"], "--rerun", "dir.npz"),
+    (["plan", "g1-walk", "--out", "{tmp}/p.npz", "--rerun", "/proc/gaitshift/p.rrd"], "--rerun", "/proc/gaitshift"),
+    (["export", "{tmp}/file.npz", "--format", "mjlab-npz", "--out", "{tmp}/m.npz", "--fps", "-5"], "--fps", "-5"),
 ]
 
 

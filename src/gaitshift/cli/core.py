@@ -60,12 +60,17 @@ def plan_cmd(
     scenario: str = typer.Argument(..., help="Built-in scenario name or YAML path."),
     out: Path = typer.Option(..., "--out", help="Output file: .npz, .csv or .json."),
     robot: str | None = typer.Option(None, "--robot", help="Robot (name or YAML) for a scenario naming none."),
+    rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
 ) -> None:
     """Plan a scenario and write the trajectory file."""
     from gaitshift import plan
     from gaitshift.api import with_robot
 
     out_file(out, "--out", SUFFIXES)  # before planning: fail fast, write nothing
+    if rerun is not None:
+        from gaitshift.export.recording import check_rrd
+
+        check_rrd(out_file(rerun, "--rerun", (".rrd",)))
     sc, _ = with_robot(load_scenario(scenario), robot)
     traj = plan(sc)
     traj.save(out)
@@ -77,6 +82,11 @@ def plan_cmd(
     if "plan_time_s" in m:
         typer.echo(f"solve: {m.get('iterations', '?')} Gauss-Newton iterations, {m['plan_time_s'] * 1e3:.2f} ms")
     typer.echo(f"wrote {out}")
+    if rerun is not None:
+        from gaitshift.export.recording import record_plan
+
+        logged = record_plan(traj, rerun)
+        typer.echo(f"wrote {rerun} ({logged['bodies']} body frames{'; ' + logged['note'] if logged['note'] else ''})")
 
 
 @app.command("plot")

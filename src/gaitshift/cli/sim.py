@@ -33,6 +33,9 @@ def simulate_cmd(
     latency: int | None = typer.Option(None, "--latency", help="Loop latency, ticks (sensing + actuation; 0)."),
     friction: float | None = typer.Option(None, "--friction", help="The floor's friction coefficient."),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
+    rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
+    video_size: str | None = typer.Option(None, "--video-size", help="Video size WIDTHxHEIGHT, pixels (1280x720)."),
+    video_fps: int | None = typer.Option(None, "--video-fps", help="Video frame rate, Hz (30)."),
 ) -> None:
     """Simulate SCENARIO on a robot (MuJoCo) and print the summary metrics; exit 1 when it falls.
 
@@ -42,23 +45,15 @@ def simulate_cmd(
     from gaitshift.api import plan, robot_facts, with_robot
     from gaitshift.common.jsonsafe import finite_json
     from gaitshift.control.drivers import driver_for
+    from gaitshift.export.sim_recording import record_simulation
     from gaitshift.robots import load_robot
     from gaitshift.scenario import load_scenario
     from gaitshift.sim.loop import SimOptions, simulate
     from gaitshift.sim.metrics import format_metrics
     from gaitshift.sim.pushes import mid_stance_pushes
 
-    flags = sensing_flags(
-        out,
-        video,
-        push,
-        state=state,
-        noise=noise,
-        noise_scale=noise_scale,
-        latency=latency,
-        friction=friction,
-        seed=seed,
-    )
+    sensing = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency, "friction": friction}
+    flags = sensing_flags(out, video, push, rerun, seed=seed, video_size=video_size, video_fps=video_fps, **sensing)
     sc, robot_name = with_robot(load_scenario(scenario), robot)
     cfg = load_robot(robot_name)
     replanner = driver_for(sc, robot_facts(sc), control_period)
@@ -76,6 +71,8 @@ def simulate_cmd(
     if replanner is not None:
         traj = replanner.trajectory  # the plan as finally re-planned from the measured states
     result.save(out)
+    if rerun is not None:
+        record_simulation(result, traj, cfg, rerun)
     if figures is not None:
         from gaitshift.plots.sim import plot_all
 
@@ -86,12 +83,14 @@ def simulate_cmd(
     else:
         typer.echo(_summary_line(sc.name, cfg.name, traj, replanner, result.meta))
         typer.echo(format_metrics(result.metrics))
-    typer.echo(f"wrote {out}" + (f", {video}" if video else ""), err=as_json)
+    typer.echo(f"wrote {out}" + (f", {video}" if video else "") + (f", {rerun}" if rerun else ""), err=as_json)
     if result.fell:
         raise typer.Exit(1)
 
 
-def sensing_flags(out: Path, video: Path | None, push: float, **given: Any) -> dict[str, Any]:
+def sensing_flags(
+    out: Path, video: Path | None, push: float, rerun: Path | None = None, **given: Any
+) -> dict[str, Any]:
     """Check ``simulate``'s file and push flags and return the given sensing flags as SimOptions fields.
 
     A bad sensing value is reported under its flag's name (``--noise-scale``), not the option's."""
@@ -103,7 +102,16 @@ def sensing_flags(out: Path, video: Path | None, push: float, **given: Any) -> d
         raise InputError("--video", str(video), "a file ending in .mp4")
     if push < 0:
         raise InputError("--push", push, "an impulse >= 0 N s")
+    if rerun is not None:
+        from gaitshift.cli.app import out_file
+        from gaitshift.export.recording import check_rrd
+
+        check_rrd(out_file(rerun, "--rerun", (".rrd",)))
     flags = {k: v for k, v in given.items() if v is not None}
+    if "video_size" in flags:
+        from gaitshift.sim.video import parse_video_size
+
+        flags["video_size"] = parse_video_size(flags["video_size"])
     try:
         SimOptions(**flags)
     except InputError as exc:  # name the flag, not the option

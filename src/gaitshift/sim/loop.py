@@ -50,7 +50,7 @@ from gaitshift.sim.plant import Plant, build_plant
 from gaitshift.sim.pushes import Push, push_forces
 from gaitshift.sim.result import SimResult
 from gaitshift.sim.sensing import ControllerView, Sensing, check_sensing_options, with_floor_friction
-from gaitshift.sim.video import VideoRecorder, close_viewer, open_viewer
+from gaitshift.sim.video import VIDEO_SIZE, VideoRecorder, check_video, close_viewer, open_viewer, video_overlay
 from gaitshift.trajectory.contract import Trajectory
 
 #: called after the control of every tick: (tick index, plan time s, the plant's MjData)
@@ -68,7 +68,7 @@ class SimOptions:
         schedule: foot state machine timing; capture: step feedback; swing: swing-path additions.
         settle: s of standing before the plan starts.
         pushes: pushes on the pelvis (plan time).
-        video: MP4 path, or None; video_fps: its frame rate, Hz.
+        video: MP4 path, or None; video_fps: its frame rate, Hz; video_size: (width, height), pixels.
         viewer: open MuJoCo's passive viewer (needs a display).
         state: what the controller sees, "estimated" (sensors + estimator) or "oracle" (the truth);
             None (the default): "estimated" when the robot's model carries the IMU, else "oracle".
@@ -87,7 +87,8 @@ class SimOptions:
     settle: float = 0.0
     pushes: tuple[Push, ...] = ()
     video: str | None = None
-    video_fps: int = 25
+    video_fps: int = 30
+    video_size: tuple[int, int] = VIDEO_SIZE
     viewer: bool = False
     # sensing and the truth barrier (gaitshift.sim.sensing)
     state: str | None = None
@@ -102,6 +103,7 @@ class SimOptions:
 
     def __post_init__(self) -> None:
         check_sensing_options(self)
+        check_video(self.video_size, self.video_fps)
 
 
 class _Run:
@@ -117,6 +119,7 @@ class _Run:
     ) -> None:
         self.traj, self.opts, self.plant, self.replanner = traj, opts, plant, replanner
         self.hooks = tuple(hooks)
+        self.video: VideoRecorder | None = None
         self.d = mujoco.MjData(plant.model)
         self.dt = plant.dt
         self.plan = PlanSamples.from_trajectory(traj)
@@ -181,7 +184,11 @@ class _Run:
     def execute(self) -> SimResult:
         """Run the ticks until the plan ends or the robot falls; return the result with its metrics."""
         m, d, opts = self.plant.model, self.d, self.opts
-        video = VideoRecorder(m, opts.video, opts.video_fps) if opts.video else None
+        video = None
+        if opts.video:
+            overlay = video_overlay(self.traj, self.plant.robot.sole_size)
+            track, height = self.plant.pelvis_body, self.plant.robot.com_height
+            video = self.video = VideoRecorder(m, opts.video, opts.video_fps, opts.video_size, track, height, overlay)
         viewer = open_viewer(m, d) if opts.viewer else None
         fell, fall_time, reason = False, math.nan, ""
         n_done = self.n_ticks
@@ -277,4 +284,9 @@ def simulate(
     plant = with_floor_friction(plant or build_plant(opts.control_period, robot), opts.friction)
     run = _Run(traj, opts, plant, replanner, hooks)
     run.sense_hooks = tuple(sense_hooks)
-    return run.execute()
+    try:
+        return run.execute()
+    except BaseException:
+        if run.video is not None:
+            run.video.discard()  # no partial MP4
+        raise
