@@ -9,6 +9,7 @@ from typing import Any
 import typer
 
 from gaitshift.cli.app import app
+from gaitshift.cli.web import web_port_option, web_view
 from gaitshift.errors import InputError
 
 
@@ -31,6 +32,8 @@ def simulate_cmd(
     latency: int | None = typer.Option(None, "--latency", help="Loop latency, ticks (sensing + actuation; 0)."),
     friction: float | None = typer.Option(None, "--friction", help="The floor's friction coefficient."),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
+    web: bool = typer.Option(False, "--web", help="Serve a live view in the browser (paced to the wall clock)."),
+    web_port: int = web_port_option(),
 ) -> None:
     """Simulate SCENARIO on a robot (MuJoCo) and print the summary metrics; exit 1 when it falls.
 
@@ -70,7 +73,9 @@ def simulate_cmd(
     opts = SimOptions(
         control_period=control_period, pushes=pushes, video=str(video) if video else None, viewer=viewer, **sensing
     )
-    result = simulate(traj, opts, replanner=replanner, robot=cfg)
+    live = replanner.trajectory if replanner else traj
+    with web_view(web, web_port, lambda: replanner.trajectory if replanner else live, as_json, realtime=True) as views:
+        result = simulate(traj, opts, replanner=replanner, robot=cfg, hooks=views)
     if replanner is not None:
         traj = replanner.trajectory  # the plan as finally re-planned from the measured states
     result.save(out)
