@@ -110,7 +110,7 @@ class WebView:
         plan: Callable[[], Any],
         port: int = 8080,
         host: str = "127.0.0.1",
-        backend: str = "mjviser",
+        backend: str = "viser",
         rate: float = 30.0,
         controls: CommandRange | None = None,
         on_command: Callable[[float, float, float, float], None] | None = None,
