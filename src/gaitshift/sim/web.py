@@ -19,7 +19,8 @@ before the run starts); the scene is built at the first tick from ``d.model``
   wall-clock s since the first tick) and the page updates per second.
 
 With ``controls`` (a live session) the panel has sliders for vx, vy and the yaw rate and the buttons
-*Stop* (command zero: the robot comes to stand) and *End run* (stop at rest and end the session).
+*Stop* (command zero: the robot slows to zero speed and keeps stepping in place) and *End run*
+(stop at rest and end the session).
 The page's callbacks run in viser's threads: they only queue the command, and the hook applies it
 in the simulation thread through ``on_command(vx, vy, yaw_rate, t)`` / ``on_quit(t)``.
 """
@@ -160,7 +161,7 @@ class WebView:
 
     def _stop(self) -> None:
         for s in self.sliders.values():
-            s.value = 0.0  # no update callback fires for a value set from the server
+            s.value = 0.0  # the page follows; a callback this may fire queues the same zero command
         self._queue("command", (0.0, 0.0, 0.0))
 
     def _queue(self, kind: str, cmd: tuple[float, float, float]) -> None:
