@@ -19,6 +19,7 @@ import typer
 
 from gaitshift.cli.app import app, number, out_file
 from gaitshift.cli.keys import KeyReader
+from gaitshift.cli.web import web_port_option
 from gaitshift.errors import InfeasibleError, InputError
 from gaitshift.planners.online.generator import OnlineGenerator
 from gaitshift.scenario import load_scenario
@@ -118,20 +119,24 @@ def teleop_cmd(
         help="With --sim: MuJoCo viewer (default: when a display exists; else a status line).",
     ),
     realtime: bool = typer.Option(True, "--realtime/--no-realtime", help="With --sim: pace to the wall clock."),
+    web: bool = typer.Option(False, "--web", help="With --sim: a browser page with the view and speed controls."),
+    web_port: int = web_port_option(),
 ) -> None:
     """Interactive running (paper 003): arrow keys change the speed command by 0.3 m/s (up/down forward,
     left/right lateral), space stops, q quits; shows the planned speed and step count; writes the run
     (stopped at rest) on exit. Without a terminal, key tokens come from --script or stdin."""
     out_file(out, "--out", SUFFIXES)
     number(max_time, "--max-time", 0.0, MAX_TIME, open_low=True)
+    if web and not sim:
+        raise InputError("--web", "without --sim", "--web together with --sim")
     source = "--script"
-    if script is None and not sys.stdin.isatty():
+    if script is None and not sys.stdin.isatty() and not web:  # with --web the page gives the commands
         script, source = read_stdin_script(), "stdin"
     actions = parse_script(script, source) if script is not None else None
     if sim:
         from gaitshift.cli.live import teleop_sim
 
-        teleop_sim(robot, actions, out, max_time, viewer, realtime)
+        teleop_sim(robot, actions, out, max_time, viewer, realtime, (web, web_port))
         return
     sc = load_scenario(scenario)
     if sc.planner != "vhip":

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import typer
 
 from gaitshift.cli.app import app
+from gaitshift.cli.web import web_port_option, web_view
 from gaitshift.errors import InputError
 
 
@@ -36,6 +38,8 @@ def simulate_cmd(
     rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
     video_size: str | None = typer.Option(None, "--video-size", help="Video size WIDTHxHEIGHT, pixels (1280x720)."),
     video_fps: int | None = typer.Option(None, "--video-fps", help="Video frame rate, Hz (30)."),
+    web: bool = typer.Option(False, "--web", help="Serve a live view in the browser (paced to the wall clock)."),
+    web_port: int = web_port_option(),
 ) -> None:
     """Simulate SCENARIO on a robot (MuJoCo) and print the summary metrics; exit 1 when it falls.
 
@@ -43,13 +47,10 @@ def simulate_cmd(
     own robot is an error (scale the scenario first: `gaitshift scale`). Before the run, the robot's
     joint-speed limits are checked against the plan's whole-body motion (IK)."""
     from gaitshift.api import plan, robot_facts, with_robot
-    from gaitshift.common.jsonsafe import finite_json
     from gaitshift.control.drivers import driver_for
-    from gaitshift.export.sim_recording import record_simulation
     from gaitshift.robots import load_robot
     from gaitshift.scenario import load_scenario
     from gaitshift.sim.loop import SimOptions, simulate
-    from gaitshift.sim.metrics import format_metrics
     from gaitshift.sim.pushes import mid_stance_pushes
 
     sensing = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency, "friction": friction}
@@ -67,23 +68,46 @@ def simulate_cmd(
     opts = SimOptions(
         control_period=control_period, pushes=pushes, video=str(video) if video else None, viewer=viewer, **sensing
     )
-    result = simulate(traj, opts, replanner=replanner, robot=cfg)
+    live = replanner.trajectory if replanner else traj
+    with web_view(web, web_port, lambda: replanner.trajectory if replanner else live, as_json, realtime=True) as views:
+        result = simulate(traj, opts, replanner=replanner, robot=cfg, hooks=views)
     if replanner is not None:
         traj = replanner.trajectory  # the plan as finally re-planned from the measured states
-    result.save(out)
-    if rerun is not None:
-        record_simulation(result, traj, cfg, rerun)
-    if figures is not None:
+    report(result, traj, cfg, replanner, ReportFiles(out, video, rerun, figures), as_json, sc.name)
+
+
+@dataclass(frozen=True)
+class ReportFiles:
+    """Where ``simulate`` writes: the log (.npz), the video (.mp4), the Rerun recording (.rrd) and the
+    figures folder (None: not asked for)."""
+
+    out: Path
+    video: Path | None = None
+    rerun: Path | None = None
+    figures: Path | None = None
+
+
+def report(result: Any, traj: Any, cfg: Any, replanner: Any, files: ReportFiles, as_json: bool, name: str) -> None:
+    """Save the run and print its metrics (JSON alone on stdout with ``as_json``); exit 1 on a fall."""
+    from gaitshift.common.jsonsafe import finite_json
+    from gaitshift.export.sim_recording import record_simulation
+    from gaitshift.sim.metrics import format_metrics
+
+    result.save(files.out)
+    if files.rerun is not None:
+        record_simulation(result, traj, cfg, files.rerun)
+    if files.figures is not None:
         from gaitshift.plots.sim import plot_all
 
-        for p in plot_all(result, traj, figures):
+        for p in plot_all(result, traj, files.figures):
             typer.echo(f"wrote {p}", err=as_json)
     if as_json:
         typer.echo(json.dumps(finite_json(result.metrics), allow_nan=False))
     else:
-        typer.echo(_summary_line(sc.name, cfg.name, traj, replanner, result.meta))
+        typer.echo(_summary_line(name, cfg.name, traj, replanner, result.meta))
         typer.echo(format_metrics(result.metrics))
-    typer.echo(f"wrote {out}" + (f", {video}" if video else "") + (f", {rerun}" if rerun else ""), err=as_json)
+    written = [str(f) for f in (files.out, files.video, files.rerun) if f is not None]
+    typer.echo("wrote " + ", ".join(written), err=as_json)
     if result.fell:
         raise typer.Exit(1)
 

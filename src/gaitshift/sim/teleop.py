@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from gaitshift.control.locomotion_driver import LocomotionDriver
-from gaitshift.sim.loop import SimOptions, simulate
+from gaitshift.sim.loop import SimOptions, TickHook, simulate
 from gaitshift.sim.result import SimResult
 
 __all__ = ["SIM_KEYS", "Session", "run_session"]
@@ -73,6 +73,21 @@ class Session:
         elif action in ("stop", "quit") and not self.quitting:
             self.quitting = True
             self.driver.stop()
+        self._echo(action, t)
+
+    def set_command(self, vx: float, vy: float, yaw_rate: float, t: float) -> None:
+        """An absolute command (m/s, m/s in the heading frame, rad/s) at plan time ``t`` (s): the
+        browser's sliders (:mod:`gaitshift.sim.web`); ignored once the stop is requested."""
+        if not self.quitting:
+            self.command = np.array([vx, vy, yaw_rate], float)
+            self.driver.command(vx, vy, yaw_rate)
+        self._echo("web", t)
+
+    def quit(self, t: float) -> None:
+        """End the session at plan time ``t`` (s): stop at rest (the browser's *End run*)."""
+        self.apply("quit", t)
+
+    def _echo(self, action: str, t: float) -> None:
         self.status(
             f"{action:>10s}  t={t:7.2f} s  command=({self.command[0]:+.2f}, {self.command[1]:+.2f} m/s, "
             f"{self.command[2]:+.2f} rad/s)"
@@ -120,13 +135,16 @@ class Session:
         )
 
 
-def run_session(driver: LocomotionDriver, session: Session, viewer: bool, robot: Any = "g1") -> SimResult:
+def run_session(
+    driver: LocomotionDriver, session: Session, viewer: bool, robot: Any = "g1", views: Sequence[TickHook] = ()
+) -> SimResult:
     """Run the closed loop of a live session on ``robot`` (name, YAML or config) until the robot
-    stands at rest after the stop."""
+    stands at rest after the stop; ``views`` are tick hooks called after the session's (a browser
+    view, :mod:`gaitshift.sim.web`)."""
     return simulate(
         driver.trajectory,
         SimOptions(control_period=driver.gen.dt, viewer=viewer),
         replanner=driver,
-        hooks=[session],
+        hooks=[session, *views],
         robot=robot,
     )
