@@ -15,7 +15,7 @@ import numpy as np
 from gaitshift.api import plan
 from gaitshift.robots import load_robot
 from gaitshift.robots.statics import standing_statics
-from gaitshift.sim.loop import simulate
+from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.wholebody.ik import IKInfeasibleError, IKSettings, WholeBodyIK
 from gaitshift.wholebody.scaling import scale_scenario
 
@@ -47,7 +47,7 @@ def run(name: str, scenario: str) -> dict[str, object]:
             row["speed_frac"] = f"{frac[k]:.2f} ({robot.joint_names[k]})"
     except IKInfeasibleError as exc:
         row["ik"] = str(exc)
-    res = simulate(traj, robot=robot)
+    res = simulate(traj, SimOptions(state="oracle"), robot=robot)  # the table is on the truth (docs)
     m = res.metrics
     strides = np.diff(traj.footsteps[:, 0])
     row.update(
