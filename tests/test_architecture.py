@@ -48,6 +48,7 @@ LAYERS: dict[str, int] = {
     "sim": 9,
     "plots": 10,
     "bench": 10,
+    "campaign": 10,
     "cli": 11,
 }
 
