@@ -58,6 +58,7 @@ def cluster_client(scheduler: str | None, workers: int | None) -> Iterator[Any]:
     from distributed import Client, LocalCluster
 
     if scheduler is not None:
+        _reachable(scheduler)
         try:
             with dask.config.set({"distributed.comm.timeouts.connect": f"{CONNECT_TIMEOUT}s"}):
                 client = Client(scheduler, timeout=f"{CONNECT_TIMEOUT}s")  # type: ignore[no-untyped-call]
@@ -79,6 +80,29 @@ def cluster_client(scheduler: str | None, workers: int | None) -> Iterator[Any]:
         Client(cluster) as client,  # type: ignore[no-untyped-call]
     ):
         yield client
+
+
+def _reachable(address: str) -> None:
+    """Fail fast when nothing listens at a ``tcp://host:port`` (or ``host:port``) address: a refused
+    connection is an error at once, not after the client's connect timeout."""
+    import socket
+    from urllib.parse import urlsplit
+
+    if "://" in address and not address.startswith("tcp://"):
+        return  # tls://, ucx://, inproc://: left to the client
+    parts = urlsplit(address if "://" in address else "tcp://" + address)
+    try:
+        host, port = parts.hostname, parts.port
+    except ValueError as exc:
+        raise InputError("--scheduler", address, f"an address tcp://HOST:PORT ({exc})") from None
+    if not host or port is None:
+        raise InputError("--scheduler", address, "an address tcp://HOST:PORT")
+    try:
+        with socket.create_connection((host, port), timeout=CONNECT_TIMEOUT):
+            pass
+    except OSError as exc:
+        why = exc.strerror or type(exc).__name__
+        raise InputError("--scheduler", address, f"the address of a running Dask scheduler ({why})") from None
 
 
 def _bar(done: int, total: int, width: int = 30) -> str:
@@ -117,20 +141,26 @@ def run_campaign(
     cases = expand(spec)
     scenarios = _scenarios(spec, cases)
     store = Store(out)
+    store.check(spec_text)
+    done = store.done()
+    # in hash order: a pseudo-random order, so that a partial run covers the whole grid evenly
+    todo = sorted((c for c in cases if c["case_hash"] not in done), key=lambda c: c["case_hash"])
+    say = echo or _stderr_bar
     wall0 = time.perf_counter()
-    with cluster_client(scheduler, workers) as client:
+    ran = lost = 0
+    with contextlib.ExitStack() as stack:
+        # no cluster when nothing is left to run; an unreachable scheduler fails before any write
+        client = stack.enter_context(cluster_client(scheduler, workers)) if todo else None
         store.start(spec_text)
-        done = store.done()
-        # in hash order: a pseudo-random order, so that a partial run covers the whole grid evenly
-        todo = sorted((c for c in cases if c["case_hash"] not in done), key=lambda c: c["case_hash"])
-        say = echo or _stderr_bar
-        say(f"dashboard: {client.dashboard_link}")
+        if client is not None:
+            say(f"dashboard: {client.dashboard_link}")
         say(f"{len(cases)} cases, {len(cases) - len(todo)} already done, {len(todo)} to run")
         futures = [
-            client.submit(run_case, c, scenarios[c["scenario"]], key=f"case-{c['case_hash']}", pure=False) for c in todo
+            client.submit(run_case, c, scenarios[c["scenario"]], key=f"case-{c['case_hash']}", pure=False)
+            for c in todo
+            if client is not None
         ]
-        ran = lost = 0
-        for fut in as_completed(futures):  # type: ignore[no-untyped-call]
+        for fut in as_completed(futures) if futures else ():  # type: ignore[no-untyped-call]
             try:
                 store.write(fut.result())
                 ran += 1

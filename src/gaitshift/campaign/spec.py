@@ -31,7 +31,7 @@ from gaitshift.errors import InputError
 from gaitshift.scenario.fields import StrictModel, input_error
 from gaitshift.scenario.loader import yaml_mapping, yaml_text
 
-__all__ = ["CampaignSpec", "RangeAxis", "ReferenceSettings", "SampleAxis", "load_spec"]
+__all__ = ["CampaignSpec", "RangeAxis", "ReferenceSettings", "SampleAxis", "axis_list", "load_spec"]
 
 Num = Annotated[float, Strict(), Field(allow_inf_nan=False)]
 #: at most this many values on one axis
@@ -81,7 +81,23 @@ class SampleAxis(StrictModel):
         return [float(v) for v in rng.uniform(self.low, self.high, self.n)]
 
 
-AxisValues = list[Any] | RangeAxis | SampleAxis
+def axis_list(name: str, given: Any) -> list[Any]:
+    """The raw values of axis ``name`` as the spec gives them: a list, a range mapping (start, stop,
+    step) or a sample mapping (low, high, n, seed).
+
+    Raises:
+        InputError: naming ``axes.<name>`` (or its key), the value and what is allowed.
+    """
+    field = f"axes.{name}"
+    if isinstance(given, list):
+        return given
+    if not isinstance(given, dict):
+        raise InputError(field, given, "a list, a range {start, stop, step} or a sample {low, high, n, seed}")
+    schema: type[StrictModel] = RangeAxis if "step" in given or "start" in given else SampleAxis
+    try:
+        return schema.model_validate(given).values()  # type: ignore[attr-defined, no-any-return]
+    except ValidationError as exc:
+        raise input_error(exc, schema, InputError, prefix=field + ".") from None
 
 
 class ReferenceSettings(StrictModel):
@@ -97,7 +113,7 @@ class CampaignSpec(StrictModel):
     name: str = "campaign"
     description: str = ""
     task: Literal["simulate", "plan", "reference"]
-    axes: dict[str, AxisValues] = Field(default_factory=dict)
+    axes: dict[str, Any] = Field(default_factory=dict)
     duration: Annotated[float, Strict(), Field(gt=0, le=3600, allow_inf_nan=False)] | None = None
     control_period: Annotated[float, Strict(), Field(ge=5e-4, le=0.01, allow_inf_nan=False)] = 0.002
     reference: ReferenceSettings = ReferenceSettings()
@@ -118,7 +134,7 @@ class CampaignSpec(StrictModel):
             if given is None:
                 out[name] = [AXES[name].default]
                 continue
-            raw = given if isinstance(given, list) else given.values()
+            raw = axis_list(name, given)
             if not raw:
                 raise InputError(f"axes.{name}", [], "a non-empty list of values (an empty axis has no case)")
             vals = [check_value(name, f"axes.{name}[{i}]", v) for i, v in enumerate(raw)]

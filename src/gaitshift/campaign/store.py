@@ -66,6 +66,16 @@ class Store:
     def complete_marker(self) -> Path:
         return self.root / "complete"
 
+    def check(self, spec_text: str) -> None:
+        """Nothing is written here.
+
+        Raises:
+            InputError: the folder holds another campaign's spec (a different spec text).
+        """
+        spec_file = self.root / "spec.yaml"
+        if spec_file.exists() and spec_file.read_text() != spec_text:
+            raise InputError("--out", str(self.root), "an empty folder or one holding this same spec's campaign")
+
     def start(self, spec_text: str) -> None:
         """Create the folders, record the spec, and drop a stale ``complete`` marker (the dataset is
         complete again only when this run ends with every case done).
@@ -73,10 +83,9 @@ class Store:
         Raises:
             InputError: the folder holds another campaign's spec (a different spec text).
         """
+        self.check(spec_text)
         self.parts.mkdir(parents=True, exist_ok=True)
         spec_file = self.root / "spec.yaml"
-        if spec_file.exists() and spec_file.read_text() != spec_text:
-            raise InputError("--out", str(self.root), "an empty folder or one holding this same spec's campaign")
         if not spec_file.exists():
             with atomic_path(spec_file, "--out") as tmp:
                 tmp.write_text(spec_text)
