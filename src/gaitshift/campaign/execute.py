@@ -31,7 +31,7 @@ import numpy as np
 import gaitshift
 from gaitshift.errors import GaitshiftError
 
-__all__ = ["FAULT_ENV", "METRICS", "edited_scenario", "run_case"]
+__all__ = ["FAULT_ENV", "METRICS", "MOTIONS", "RUNNERS", "edited_scenario", "run_case"]
 
 #: result columns besides the case's parameters, and their Arrow types
 METRICS: dict[str, str] = {
@@ -132,7 +132,7 @@ def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], 
     return row, res
 
 
-def _plan(sc: Any, cfg: Any) -> tuple[dict[str, Any], Any]:
+def _plan(sc: Any, cfg: Any, _case: dict[str, Any]) -> tuple[dict[str, Any], Any]:
     """The kinematic plan of the case: its size and the joint speeds of its whole-body IK."""
     from gaitshift.api import plan
     from gaitshift.sim.metrics import touchdowns
@@ -148,22 +148,33 @@ def _plan(sc: Any, cfg: Any) -> tuple[dict[str, Any], Any]:
     return row, traj
 
 
+def _ik_motion(case: dict[str, Any], cfg: Any, traj: Any) -> tuple[Any, Any, Any]:
+    """t, qpos, qvel of the plan's whole-body IK at the case's reference rate (a divisor of the plan's)."""
+    from gaitshift.wholebody.ik import IKSettings, WholeBodyIK
+
+    k = max(1, round(1.0 / (float(case["reference_rate"]) * traj.dt)))
+    jt = WholeBodyIK(cfg, IKSettings()).solve(traj, 1.0 / (k * traj.dt), check_velocities=False)
+    return jt.t, jt.qpos, jt.qvel
+
+
+def _sim_motion(case: dict[str, Any], _cfg: Any, res: Any) -> tuple[Any, Any, Any]:
+    """t, qpos, qvel of the simulated robot, every k-th control tick (k = control rate / reference rate)."""
+    a = res.arrays
+    k = max(1, round(1.0 / (float(case["reference_rate"]) * case["control_period"])))
+    return a["t"][::k], a["qpos"][::k], a["qvel"][::k]
+
+
+#: how a case is computed: ``reference_mode`` (task reference) or else the task -> runner
+RUNNERS = {"simulate": _simulate, "plan": _plan, "closed-loop": _simulate, "kinematic": _plan}
+#: reference mode -> the motion of the runner's output
+MOTIONS = {"closed-loop": _sim_motion, "kinematic": _ik_motion}
+
+
 def _motion(case: dict[str, Any], cfg: Any, source: Any, extra: dict[str, Any]) -> dict[str, Any]:
-    """The whole-body motion at ``reference_rate`` Hz: from a sim result (closed loop) or by IK;
-    ``extra`` goes into its meta."""
+    """The whole-body motion at ``reference_rate`` Hz (:data:`MOTIONS`); ``extra`` goes into its meta."""
     from gaitshift.wholebody.joints import coordinate_names
 
-    rate = float(case["reference_rate"])
-    if case["reference_mode"] == "kinematic":
-        from gaitshift.wholebody.ik import IKSettings, WholeBodyIK
-
-        k = max(1, round(1.0 / (rate * source.dt)))
-        jt = WholeBodyIK(cfg, IKSettings()).solve(source, 1.0 / (k * source.dt), check_velocities=False)
-        t, qpos, qvel = jt.t, jt.qpos, jt.qvel
-    else:
-        a = source.arrays
-        k = max(1, round(1.0 / (rate * case["control_period"])))
-        t, qpos, qvel = a["t"][::k], a["qpos"][::k], a["qvel"][::k]
+    t, qpos, qvel = MOTIONS[case["reference_mode"]](case, cfg, source)
     qn, vn = coordinate_names(cfg.model())
     keys = ("robot", "scenario", "gait", "speed", "yaw_rate", "reference_mode", "case_hash")
     meta = {k: case[k] for k in keys} | {"robot_name": cfg.name, "qpos_names": qn, "qvel_names": vn} | extra
@@ -189,8 +200,7 @@ def run_case(case: dict[str, Any], scenario: Any) -> dict[str, Any]:
     try:
         sc, robot = with_robot(edited_scenario(scenario, case), case["robot"])
         cfg = load_robot(robot)
-        closed = case["task"] == "simulate" or case["reference_mode"] == "closed-loop"
-        metrics, source = _simulate(sc, cfg, case) if closed else _plan(sc, cfg)
+        metrics, source = RUNNERS[case["reference_mode"] or case["task"]](sc, cfg, case)
         row.update(metrics)
         if case["task"] == "reference":
             motion = _motion(case, cfg, source, {"gait_plan": sc.gait, "duration": row["plan_duration"]})

@@ -15,7 +15,7 @@ from typing import Any
 
 import yaml
 
-from gaitshift.campaign.figures import LABELS, SurvivalGrid, fall_time_histogram, survival_grid, survival_heatmap
+from gaitshift.campaign.figures import SurvivalGrid, fall_time_histogram, survival_grid, survival_heatmap
 from gaitshift.campaign.store import Store
 from gaitshift.common.atomic import atomic_path
 
@@ -101,7 +101,7 @@ def write_report(folder: str | Path) -> list[Path]:
         g = survival_grid(rows, x, y)
         if g is None:
             continue
-        title = f"survival (%), {LABELS.get(y, y)} x {LABELS.get(x, x)}, other axes pooled"
+        title = f"survival (%) over {y} x {x}\n(other axes pooled; cases per cell in summary.md)"
         written.append(survival_heatmap(g, out / f"{stem}.png", title))
         md += ["", f"## Survival: {y} x {x}", "", f"![{stem}]({stem}.png)", "", *_grid_markdown(g)]
     hist = fall_time_histogram(rows, out / "fall_times.png", "fall times of the cases that fell")
