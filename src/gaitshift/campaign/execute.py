@@ -12,7 +12,8 @@ Metrics (simulate and closed-loop reference): ``fell``, ``t_fall`` (s of plan ti
 (RMS of the stride-mean velocity error, m/s, :mod:`gaitshift.sim.tracking`), ``heading_error`` (RMS
 pelvis yaw error, rad), ``flight_ratio`` (achieved / planned flight), ``peak_torque_fraction`` (max
 |tau| / tau_max), ``joint_speed_fraction`` (max |q̇_j| / limit_j over joints with a limit; for plans:
-of the whole-body IK at 100 Hz), ``steps_completed`` / ``steps_planned``, ``plan_duration`` and
+of the whole-body IK at 100 Hz), ``steps_completed`` / ``steps_planned``, ``plan_gaits`` (the gaits
+the plan uses, "walk", "run" or "walk+run"), ``plan_duration`` and
 ``sim_time`` (s), ``wall_time`` (s of this process for the whole case).
 """
 
@@ -44,6 +45,7 @@ METRICS: dict[str, str] = {
     "joint_speed_fraction": "float64",
     "steps_completed": "int64",
     "steps_planned": "int64",
+    "plan_gaits": "string",
     "plan_duration": "float64",
     "sim_time": "float64",
     "wall_time": "float64",
@@ -96,6 +98,14 @@ def _sim_options(sc: Any, case: dict[str, Any]) -> Any:
     return SimOptions(control_period=case["control_period"], pushes=pushes, **given)
 
 
+def _plan_facts(traj: Any) -> dict[str, Any]:
+    """The plan's duration (s) and the gaits it uses besides standing ("walk", "run", "walk+run")."""
+    from gaitshift.sim.metrics import GAITS
+
+    used = [GAITS[g] for g in sorted(set(np.unique(traj.gait).tolist()) - {0})]
+    return {"plan_duration": float(traj.t[-1]), "plan_gaits": "+".join(used) or "stand"}
+
+
 def _joint_speed_fraction(cfg: Any, qvel: np.ndarray) -> float | None:
     lim = cfg.velocity_limit
     if len(qvel) == 0 or not np.any(np.isfinite(lim)):
@@ -126,7 +136,7 @@ def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], 
         "joint_speed_fraction": _joint_speed_fraction(cfg, res.arrays["qvel"]),
         "steps_completed": int(m.get("steps_completed", 0)),
         "steps_planned": int(m.get("steps_planned", 0)),
-        "plan_duration": float((replanner.trajectory if replanner else traj).t[-1]),
+        **_plan_facts(replanner.trajectory if replanner else traj),
         "sim_time": float(res.meta["sim_time_s"]),
     }
     return row, res
@@ -144,7 +154,7 @@ def _plan(sc: Any, cfg: Any, _case: dict[str, Any]) -> tuple[dict[str, Any], Any
     ok = np.isfinite(lim)
     frac = float(np.max(peak[ok] / lim[ok])) if peak is not None and np.any(ok) else None
     n = len(touchdowns(traj))
-    row = {"joint_speed_fraction": frac, "steps_planned": n, "plan_duration": float(traj.t[-1])}
+    row = {"joint_speed_fraction": frac, "steps_planned": n, **_plan_facts(traj)}
     return row, traj
 
 
@@ -203,7 +213,7 @@ def run_case(case: dict[str, Any], scenario: Any) -> dict[str, Any]:
         metrics, source = RUNNERS[case["reference_mode"] or case["task"]](sc, cfg, case)
         row.update(metrics)
         if case["task"] == "reference":
-            motion = _motion(case, cfg, source, {"gait_plan": sc.gait, "duration": row["plan_duration"]})
+            motion = _motion(case, cfg, source, {"gaits": row["plan_gaits"], "duration": row["plan_duration"]})
     except GaitshiftError as exc:
         row["error"] = " ".join(str(exc).split())
     row["wall_time"] = time.perf_counter() - wall0

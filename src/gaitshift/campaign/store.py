@@ -55,6 +55,16 @@ SCHEMA = pa.schema(
 INDEX_COLUMNS = ("robot", "gait", "speed", "yaw_rate", "duration", "file")
 
 
+def _conform(table: pa.Table) -> pa.Table:
+    """``table`` in :data:`SCHEMA`: columns a part file of an older version lacks are null, columns
+    it has beyond the schema are dropped."""
+    cols = [
+        table.column(f.name).cast(f.type) if f.name in table.column_names else pa.nulls(table.num_rows, f.type)
+        for f in SCHEMA
+    ]
+    return pa.Table.from_arrays(cols, schema=SCHEMA)
+
+
 class Store:
     """The dataset folder of one campaign (module docstring)."""
 
@@ -115,7 +125,7 @@ class Store:
         files = sorted(self.parts.glob("*.parquet")) if self.parts.is_dir() else []
         if not files:
             return SCHEMA.empty_table()
-        return pa.concat_tables([pq.read_table(f, schema=SCHEMA) for f in files])
+        return pa.concat_tables([_conform(pq.read_table(f)) for f in files])
 
     def finish(self, expected: set[str]) -> bool:
         """Write the reference index and the ``complete`` marker when every ``expected`` hash has its
@@ -138,6 +148,6 @@ class Store:
                 continue
             meta = json.loads(str(np.load(self.root / r["motion_file"])["meta"]))
             robot = r["robot"] or meta.get("robot_name")
-            w.writerow([robot, meta.get("gait_plan"), r["speed"], r["yaw_rate"], r["plan_duration"], r["motion_file"]])
+            w.writerow([robot, r["plan_gaits"], r["speed"], r["yaw_rate"], r["plan_duration"], r["motion_file"]])
         with atomic_path(self.root / "index.csv") as tmp:
             tmp.write_text(buf.getvalue())
