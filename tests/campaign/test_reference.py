@@ -1,6 +1,7 @@
 """The ``reference`` task writes whole-body motions and an index: the motion's velocities are the
 time derivatives of its positions (central differences), a faster command carries the pelvis farther
 in the same time, and the index names robot, gait, speed, yaw rate, duration and an existing file.
+What a case returns holds only builtins and numeric arrays (no MuJoCo object crosses a process).
 Cases run in-process here (the Dask path is tested in test_run.py)."""
 
 from __future__ import annotations
@@ -20,6 +21,17 @@ from gaitshift.scenario import load_scenario
 WALK = Path(__file__).resolve().parents[2] / "docs" / "campaigns" / "g1-walk.yaml"
 
 
+def _plain(obj) -> bool:
+    """Only builtins and numeric numpy arrays: what crosses the worker boundary holds no MuJoCo object."""
+    if isinstance(obj, dict):
+        return all(isinstance(k, str) and _plain(v) for k, v in obj.items())
+    if isinstance(obj, list | tuple):
+        return all(_plain(v) for v in obj)
+    if isinstance(obj, np.ndarray):
+        return obj.dtype.kind in "biuf"
+    return obj is None or isinstance(obj, str | int | float | bool)
+
+
 def _run(tmp_path: Path, mode: str, speeds: list[float]) -> tuple[Store, list[dict]]:
     spec = load_spec(
         {
@@ -34,7 +46,9 @@ def _run(tmp_path: Path, mode: str, speeds: list[float]) -> tuple[Store, list[di
     cases = expand(spec)
     sc = load_scenario(WALK)
     for c in cases:
-        store.write(run_case(c, sc))
+        result = run_case(c, sc)
+        assert _plain(c) and _plain(result)
+        store.write(result)
     assert store.finish({c["case_hash"] for c in cases})
     with open(store.root / "index.csv") as fh:
         return store, list(csv.DictReader(fh))
