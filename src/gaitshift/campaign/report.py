@@ -85,6 +85,9 @@ def _totals(store: Store, rows: list[dict[str, Any]]) -> list[str]:
             f"- wall time per case in its worker: mean {mean:.2f} s, median {statistics.median(walls):.2f} s, "
             f"sum {sum(walls) / 3600:.2f} core-hours; {3600 / mean:.0f} cases per hour per core"
         )
+    cpus = [r["cpu_time"] for r in rows if r["cpu_time"] is not None]
+    if cpus:
+        lines.append(f"- CPU time per case: mean {statistics.fmean(cpus):.2f} s ({len(cpus)} cases recorded it)")
     versions = sorted({str(r["gaitshift_version"]) for r in rows})
     lines.append(f"- gaitshift version(s): {', '.join(versions)}")
     return lines
