@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 import pyarrow as pa
+import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 
 from gaitshift.campaign.axes import AXES
@@ -53,16 +54,6 @@ SCHEMA = pa.schema(
 
 #: columns of the reference index file
 INDEX_COLUMNS = ("robot", "gait", "speed", "yaw_rate", "duration", "file")
-
-
-def _conform(table: pa.Table) -> pa.Table:
-    """``table`` in :data:`SCHEMA`: columns a part file of an older version lacks are null, columns
-    it has beyond the schema are dropped."""
-    cols = [
-        table.column(f.name).cast(f.type) if f.name in table.column_names else pa.nulls(table.num_rows, f.type)
-        for f in SCHEMA
-    ]
-    return pa.Table.from_arrays(cols, schema=SCHEMA)
 
 
 class Store:
@@ -121,11 +112,12 @@ class Store:
             pq.write_table(table, tmp)
 
     def table(self) -> pa.Table:
-        """Every row written so far, sorted by case hash (an empty table with the schema when none)."""
-        files = sorted(self.parts.glob("*.parquet")) if self.parts.is_dir() else []
-        if not files:
+        """Every row written so far, sorted by case hash, in :data:`SCHEMA` (columns a part file of an
+        older version lacks are null; an empty table when there is no row)."""
+        if not self.done():
             return SCHEMA.empty_table()
-        return pa.concat_tables([_conform(pq.read_table(f)) for f in files])
+        dataset = ds.dataset(self.parts, format="parquet", schema=SCHEMA)  # skips ".tmp" names
+        return dataset.to_table().sort_by("case_hash")
 
     def finish(self, expected: set[str]) -> bool:
         """Write the reference index and the ``complete`` marker when every ``expected`` hash has its
