@@ -25,7 +25,6 @@ import math
 import os
 import signal
 import time
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -195,9 +194,15 @@ def _motion(case: dict[str, Any], cfg: Any, source: Any, extra: dict[str, Any]) 
 
 def _fault_once() -> None:
     marker = os.environ.get(FAULT_ENV)
-    if marker and not Path(marker).exists():
-        Path(marker).write_text(str(os.getpid()))
-        os.kill(os.getpid(), signal.SIGKILL)
+    if not marker:
+        return
+    try:  # O_EXCL: exactly one process of the campaign wins the marker and dies
+        fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+    except FileExistsError:
+        return
+    os.write(fd, str(os.getpid()).encode())
+    os.close(fd)
+    os.kill(os.getpid(), signal.SIGKILL)
 
 
 def run_case(case: dict[str, Any], scenario: Any) -> dict[str, Any]:
