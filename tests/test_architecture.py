@@ -49,6 +49,7 @@ LAYERS: dict[str, int] = {
     "plots": 10,
     "bench": 10,
     "export": 10,
+    "campaign": 10,
     "cli": 11,
 }
 

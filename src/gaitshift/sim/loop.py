@@ -46,6 +46,7 @@ from gaitshift.sim.estimation_metrics import sensing_metrics
 from gaitshift.sim.initial_pose import initial_qpos
 from gaitshift.sim.log import TickLog
 from gaitshift.sim.metrics import summarize
+from gaitshift.sim.perturb import check_mass_scale, scaled_masses
 from gaitshift.sim.plant import Plant, build_plant
 from gaitshift.sim.pushes import Push, push_forces
 from gaitshift.sim.result import SimResult
@@ -77,6 +78,8 @@ class SimOptions:
         friction: the floor's friction coefficient (None: the model's).
         assumed_friction: the friction the controller assumes at start (None: the conservative default).
         estimator: base filter of the state estimator; seed: seed of every random draw of the run.
+        mass_scale: factor on the masses and inertias of the simulated robot only; the controller keeps
+            the nominal model (:mod:`gaitshift.sim.perturb`).
     """
 
     control_period: float = 0.002
@@ -100,10 +103,12 @@ class SimOptions:
     assumed_friction: float | None = None
     estimator: str = "inekf"
     seed: int = 0
+    mass_scale: float = 1.0
 
     def __post_init__(self) -> None:
         check_sensing_options(self)
         check_video(self.video_size, self.video_fps)
+        check_mass_scale(self.mass_scale)
 
 
 class _Run:
@@ -139,6 +144,7 @@ class _Run:
         self.log = TickLog(min(self.n_ticks, round(60.0 / self.dt)), plant.model)
         self.sensing = Sensing(plant, opts, q0)
         self.sense_hooks: tuple[TickHook, ...] = ()
+        self.physics = scaled_masses(plant.model, opts.mass_scale)  # the truth; the controller: nominal
 
     def plan_index(self, tp: float, view: ControllerView) -> int:
         """Plan sample at plan time ``tp``, after re-planning from the measured CoM when it is due."""
@@ -183,7 +189,7 @@ class _Run:
 
     def execute(self) -> SimResult:
         """Run the ticks until the plan ends or the robot falls; return the result with its metrics."""
-        m, d, opts = self.plant.model, self.d, self.opts
+        m, d, opts = self.physics, self.d, self.opts
         video = None
         if opts.video:
             overlay = video_overlay(self.traj, self.plant.robot.sole_size)

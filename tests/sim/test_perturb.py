@@ -1,0 +1,53 @@
+"""Mass scale: the physics model's total mass is s M, every body's mass and inertia scale by s (its CoM
+stays), the nominal model is untouched, and SimOptions refuses a scale outside its range."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from gaitshift.errors import InputError
+from gaitshift.robots import load_robot
+from gaitshift.sim.loop import SimOptions
+from gaitshift.sim.perturb import scaled_masses
+
+
+def test_scaled_model_has_s_times_the_mass_and_nominal_is_untouched():
+    """mj_getTotalmass(scaled) = s mj_getTotalmass(nominal); body CoM offsets unchanged; s = 1 is a no-op."""
+    model = load_robot("g1").model()
+    m0 = mujoco.mj_getTotalmass(model)
+    before = model.body_mass.copy()
+    heavy = scaled_masses(model, 1.3)
+    assert mujoco.mj_getTotalmass(heavy) == pytest.approx(1.3 * m0, rel=1e-12)
+    assert np.allclose(heavy.body_inertia, 1.3 * model.body_inertia)
+    assert np.array_equal(heavy.body_ipos, model.body_ipos)
+    assert np.array_equal(model.body_mass, before)
+    assert scaled_masses(model, 1.0) is model
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, 10.0, float("nan"), True])
+def test_sim_options_refuse_bad_mass_scale(bad):
+    """A mass scale outside [0.25, 4] (or not a number) is one InputError naming mass_scale."""
+    with pytest.raises(InputError, match="mass_scale"):
+        SimOptions(mass_scale=bad)
+
+
+def test_heavier_plant_weighs_more_on_the_floor_while_the_controller_keeps_its_model():
+    """Newton: over a short walk that starts and ends at rest, the mean measured vertical ground force
+    is the weight of the SCALED robot, 1.2 M g (M: the nominal mass the controller uses)."""
+    from gaitshift.api import robot_facts
+    from gaitshift.control.drivers import driver_for
+    from gaitshift.scenario import load_scenario
+    from gaitshift.sim.loop import simulate
+
+    sc = load_scenario(
+        {"planner": "locomotion", "robot": "g1", "gait": "walk", "commands": [{"vx": 0.3}], "stop_at": 0.6}
+    )
+    driver = driver_for(sc, robot_facts(sc), 0.002)
+    res = simulate(driver.trajectory, SimOptions(mass_scale=1.2), replanner=driver, robot="g1")
+    assert not res.fell
+    a = res.arrays
+    weight = 1.2 * mujoco.mj_getTotalmass(load_robot("g1").model()) * 9.81
+    assert np.linalg.norm(a["com_vel"][-1]) < 0.05  # ended at rest
+    assert np.mean(a["grf"][:, :, 2].sum(axis=1)) == pytest.approx(weight, rel=0.02)
