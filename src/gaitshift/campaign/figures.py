@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.common.atomic import atomic_path
+from gaitshift.plots.files import save_figure
 
 __all__ = ["SurvivalGrid", "fall_time_histogram", "survival_grid", "survival_heatmap"]
 
@@ -77,11 +77,7 @@ def survival_heatmap(grid: SurvivalGrid, path: Path, title: str) -> Path:
                 ax.text(j, i, f"{100 * grid.rate[i, j]:.0f}", ha="center", va="center", fontsize=8)
     fig.colorbar(im, ax=ax, label="survival (%)")
     ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 def fall_time_histogram(rows: list[dict[str, Any]], path: Path, title: str) -> Path | None:
@@ -99,8 +95,4 @@ def fall_time_histogram(rows: list[dict[str, Any]], path: Path, title: str) -> P
     ax.set_xlabel("fall time (s of plan time)")
     ax.set_ylabel("cases")
     ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)

@@ -8,6 +8,7 @@ import typer
 
 from gaitshift.cli.app import app
 
+_ROBOT_HELP = "Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
 _SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a scenario (built-in name or YAML)."
 
 
@@ -28,9 +29,7 @@ def robots_cmd() -> None:
 @app.command("wholebody")
 def wholebody_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option(
-        "g1", "--robot", help="Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
-    ),
+    robot: str = typer.Option("g1", "--robot", help=_ROBOT_HELP),
     out: Path = typer.Option(..., "--out", help="Output .npz with t, qpos, qvel and meta (JSON)."),
     rate: float | None = typer.Option(None, "--rate", help="Output rate, Hz (1/(k dt)); default: plan step."),
 ) -> None:
@@ -58,9 +57,7 @@ def wholebody_cmd(
 @app.command("animate")
 def animate_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option(
-        "g1", "--robot", help="Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
-    ),
+    robot: str = typer.Option("g1", "--robot", help=_ROBOT_HELP),
     out: Path = typer.Option(..., "--out", help="Output .mp4."),
     joints: Path | None = typer.Option(None, "--joints", help="Reuse joint trajectories from `gaitshift wholebody`."),
     rate: float = typer.Option(500.0, "--rate", help="IK rate, Hz (when --joints is not given)."),

@@ -231,24 +231,6 @@ def solve_running(
     return np.abs(x[..., 0]), x[..., 1], resa, ita
 
 
-@overload
-def solve_transition(
-    height: float,
-    double_support: float,
-    single_support: float,
-    v_r: float,
-    gravity: float = 9.81,
-    T_guess: float | None = None,
-) -> tuple[float, float, float, int]: ...
-@overload
-def solve_transition(
-    height: FloatLike,
-    double_support: FloatLike,
-    single_support: FloatLike,
-    v_r: FloatLike,
-    gravity: float = 9.81,
-    T_guess: FloatLike | None = None,
-) -> tuple[FloatLike, FloatLike, FloatLike, int | IntArray]: ...
 def solve_transition(
     height: FloatLike,
     double_support: FloatLike,

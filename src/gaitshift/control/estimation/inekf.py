@@ -180,24 +180,17 @@ class InvariantEKF:
         self.reset(np.eye(3), np.zeros(3))
 
     # ------------------------------------------------------------------ set-up
-    def reset(
-        self,
-        rot: np.ndarray,
-        pos: np.ndarray,
-        vel: np.ndarray | None = None,
-        gyro_bias: np.ndarray | None = None,
-        accel_bias: np.ndarray | None = None,
-    ) -> None:
-        """Restart at IMU orientation ``rot`` (3, 3), position (3,), velocity (3,) and biases (3,);
-        the covariance restarts from the tuning's priors and no foot is in the state."""
+    def reset(self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None) -> None:
+        """Restart at IMU orientation ``rot`` (3, 3), position (3,) and velocity (3,) (zero if None),
+        the biases at zero (their prior mean); the covariance restarts from the tuning's priors and
+        no foot is in the state."""
         t = self.tuning
         self._quat[:] = quat_of_mat(rot)
         mujoco.mju_quat2Mat(self._rot9, self._quat)
         self._vec[0] = 0.0 if vel is None else vel
         self._origin[:] = pos
         self._vec[1:4] = 0.0
-        self._bias[:3] = 0.0 if gyro_bias is None else gyro_bias
-        self._bias[3:] = 0.0 if accel_bias is None else accel_bias
+        self._bias[:] = 0.0
         var = np.concatenate(
             [
                 [t.init_tilt_std**2] * 2 + [t.init_yaw_std**2],

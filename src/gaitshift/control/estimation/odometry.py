@@ -51,21 +51,14 @@ class LegOdometry:
         self._weights = {(True, False): np.array([1.0, 0.0]), (False, True): np.array([0.0, 1.0])}
         self._weights[True, True] = np.array([0.5, 0.5])
 
-    def reset(
-        self,
-        rot: np.ndarray,
-        pos: np.ndarray,
-        vel: np.ndarray | None = None,
-        gyro_bias: np.ndarray | None = None,
-        accel_bias: np.ndarray | None = None,  # noqa: ARG002 (BaseFilter protocol: not estimated here)
-    ) -> None:
-        """Restart at orientation (3, 3), position (3,), velocity (3,) and gyro bias (3,)
-        (the accelerometer bias is not estimated and is ignored)."""
+    def reset(self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None) -> None:
+        """Restart at orientation (3, 3), position (3,) and velocity (3,) (zero if None); the gyro
+        bias restarts at zero."""
         self._quat[:] = quat_of_mat(rot)
         mujoco.mju_quat2Mat(self._rot9, self._quat)
         self._pos[:] = pos
         self._vel[:] = 0.0 if vel is None else vel
-        self._bias[:] = 0.0 if gyro_bias is None else gyro_bias
+        self._bias[:] = 0.0
         self._anchored = [False, False]
 
     def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:

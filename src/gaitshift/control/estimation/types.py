@@ -108,15 +108,8 @@ class BaseState:
 class BaseFilter(Protocol):
     """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``)."""
 
-    def reset(
-        self,
-        rot: np.ndarray,
-        pos: np.ndarray,
-        vel: np.ndarray | None = None,
-        gyro_bias: np.ndarray | None = None,
-        accel_bias: np.ndarray | None = None,
-    ) -> None:
-        """Restart from a known IMU pose (3, 3)/(3,), velocity (3,) and biases (3,) (zero if None)."""
+    def reset(self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None) -> None:
+        """Restart from a known IMU pose (3, 3)/(3,) and velocity (3,) (zero if None), biases at zero."""
         ...
 
     def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:
