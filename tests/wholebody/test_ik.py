@@ -120,25 +120,26 @@ def test_joints_file_holds_mujoco_order_and_metadata(g1_plan, tmp_path):
     assert meta["mjcf"] == str(robot.mjcf)
 
 
+def _huge_stride(robot, steps: int) -> dict:
+    """A walking scenario for ``robot`` whose stride is twice its leg length (beyond any reach)."""
+    return {
+        "planner": "tvlip",
+        "height": robot.com_height,
+        "foot": {"size": list(robot.sole_size), "zmp_margin": 0.005},
+        "gait": [{"gait": "walk", "steps": steps}],
+        "profile": {
+            "max_stride": 2 * robot.leg_length,
+            "accelerate_steps": 0,
+            "decelerate_steps": 0,
+            "step_width": robot.foot_separation,
+        },
+        "limits": {"max_stride": 3 * robot.leg_length},
+    }
+
+
 def test_stride_of_twice_the_leg_length_names_the_time_and_the_task():
     g1 = load_robot("g1")
-    sc = gaitshift.load_scenario(
-        {
-            "planner": "tvlip",
-            "name": "g1-huge-stride",
-            "height": g1.com_height,
-            "foot": {"size": list(g1.sole_size), "zmp_margin": 0.005},
-            "gait": [{"gait": "walk", "steps": 4}],
-            "profile": {
-                "max_stride": 2 * g1.leg_length,
-                "accelerate_steps": 0,
-                "decelerate_steps": 0,
-                "step_width": g1.foot_separation,
-            },
-            "limits": {"max_stride": 3 * g1.leg_length},
-            "swing_height": 0.05,
-        }
-    )
+    sc = gaitshift.load_scenario(_huge_stride(g1, 4) | {"name": "g1-huge-stride", "swing_height": 0.05})
     traj = gaitshift.plan(sc)
     with pytest.raises(InfeasibleError) as info:
         wholebody(traj, g1, rate=RATE)
@@ -160,23 +161,7 @@ def test_cli_wholebody_writes_joints_and_reports_infeasible_plans_in_one_line(tm
 
     g1 = load_robot("g1")
     bad = tmp_path / "huge.yaml"
-    bad.write_text(
-        yaml.safe_dump(
-            {
-                "planner": "tvlip",
-                "height": g1.com_height,
-                "foot": {"size": list(g1.sole_size), "zmp_margin": 0.005},
-                "gait": [{"gait": "walk", "steps": 2}],
-                "profile": {
-                    "max_stride": 2 * g1.leg_length,
-                    "accelerate_steps": 0,
-                    "decelerate_steps": 0,
-                    "step_width": g1.foot_separation,
-                },
-                "limits": {"max_stride": 3 * g1.leg_length},
-            }
-        )
-    )
+    bad.write_text(yaml.safe_dump(_huge_stride(g1, 2)))
     out = tmp_path / "j.npz"
     with pytest.raises(SystemExit) as ex:
         main(["wholebody", str(bad), "--robot", "g1", "--out", str(out), "--rate", "250"])

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from gaitshift.cli.app import app
+from gaitshift.cli.app import app, out_file
 
 _ROBOT_HELP = "Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
 _SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a scenario (built-in name or YAML)."
@@ -34,12 +34,10 @@ def wholebody_cmd(
     rate: float | None = typer.Option(None, "--rate", help="Output rate, Hz (1/(k dt)); default: plan step."),
 ) -> None:
     """Whole-body IK: joint trajectories that reproduce the planned CoM and sole poses."""
-    from gaitshift.errors import InputError
     from gaitshift.wholebody.ik import wholebody
     from gaitshift.wholebody.joints import load_plan
 
-    if out.suffix.lower() != ".npz":
-        raise InputError("--out", str(out), "a file ending in .npz")
+    out_file(out, "--out", (".npz",))
     joints = wholebody(load_plan(file), robot, rate=rate)
     joints.save(out)
     ik = joints.meta["ik"]
@@ -66,12 +64,10 @@ def animate_cmd(
     height: int = typer.Option(360, "--height", help="Video height, pixels (even)."),
 ) -> None:
     """Offscreen MP4 of the whole-body motion with the CoM, ZMP and footsteps drawn."""
-    from gaitshift.errors import InputError
     from gaitshift.wholebody.joints import JointTrajectory
     from gaitshift.wholebody.render import animate
 
-    if out.suffix.lower() != ".mp4":
-        raise InputError("--out", str(out), "a file ending in .mp4")
+    out_file(out, "--out", (".mp4",))
     jt = JointTrajectory.load(joints) if joints is not None else None
     path, _ = animate(file, out, robot=robot, rate=rate, fps=fps, width=width, height=height, joints=jt)
     typer.echo(f"wrote {path}")
@@ -89,12 +85,10 @@ def scale_cmd(
     """Scale a paper scenario to a robot (CoM height, strides, feet; see docs/robot.md) and write it as YAML."""
 
     from gaitshift.common.atomic import atomic_path
-    from gaitshift.errors import InputError
     from gaitshift.scenario import load_scenario
     from gaitshift.wholebody.scaling import scale_factor, scale_scenario, scenario_yaml
 
-    if out.suffix.lower() not in (".yaml", ".yml"):
-        raise InputError("--out", str(out), "a file ending in .yaml or .yml")
+    out_file(out, "--out", (".yaml", ".yml"))
     sc = load_scenario(scenario)
     scaled = scale_scenario(sc, robot, time_scale=time_scale)
     header = f"{sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f} (gaitshift scale)"

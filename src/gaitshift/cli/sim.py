@@ -9,7 +9,7 @@ from typing import Any
 
 import typer
 
-from gaitshift.cli.app import app
+from gaitshift.cli.app import app, out_file
 from gaitshift.cli.web import web_port_option, web_view
 from gaitshift.errors import InputError
 
@@ -120,14 +120,12 @@ def sensing_flags(
     A bad sensing value is reported under its flag's name (``--noise-scale``), not the option's."""
     from gaitshift.sim.loop import SimOptions
 
-    if out.suffix.lower() != ".npz":
-        raise InputError("--out", str(out), "a file ending in .npz")
-    if video is not None and video.suffix.lower() != ".mp4":
-        raise InputError("--video", str(video), "a file ending in .mp4")
+    out_file(out, "--out", (".npz",))
+    if video is not None:
+        out_file(video, "--video", (".mp4",))
     if push < 0:
         raise InputError("--push", push, "an impulse >= 0 N s")
     if rerun is not None:
-        from gaitshift.cli.app import out_file
         from gaitshift.export.recording import check_rrd
 
         check_rrd(out_file(rerun, "--rerun", (".rrd",)))

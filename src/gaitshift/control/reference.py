@@ -80,7 +80,7 @@ def tick_reference(
             foot_ref[s, 2] += z
             foot_vel[s, 2] += zd / dur
             foot_acc[s, 2] += zdd / dur**2
-        if traj.contact[i, s] and u > 1.0:  # late touchdown: keep descending
+        if traj.contact[i, s] and u > 1.0:  # the plan's contact is due, the sole has not landed: descend
             late = t - sched.swing_end[s]
             foot_ref[s, 2] -= settings.late_descent_speed * late
             foot_vel[s] = [0.0, 0.0, -settings.late_descent_speed]

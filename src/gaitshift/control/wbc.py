@@ -135,6 +135,7 @@ class WholeBodyController:
         """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact forces."""
         g = self.gains
         k = len(points)
+        # ``data`` is the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
         com = data.subtree_com[0].copy()
         com_vel = data.subtree_linvel[0].copy()
         L = data.subtree_angmom[0].copy()

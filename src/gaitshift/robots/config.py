@@ -11,7 +11,8 @@ the model, never copied into the YAML:
   (given, or computed by IK for ``com_height``: :mod:`gaitshift.robots.standing`);
 * the leg length: distance from the hip-pitch joint axis to the sole centre with every leg joint at 0
   (leg straight), the longest reach of a leg;
-* the foot separation: lateral distance between the two sole centres in the standing pose;
+* the foot separation: lateral distance between the two sole centres in the standing pose (these three:
+  :mod:`gaitshift.robots.dimensions`);
 * whether each leg can roll its foot (rank of the leg's angular Jacobian: 5-DOF legs such as the H1's
   cannot).
 """
@@ -29,6 +30,7 @@ from pydantic import ValidationError
 
 from gaitshift.errors import InputError
 from gaitshift.robots import mjcf as _mj
+from gaitshift.robots.dimensions import com_height, foot_separation, leg_length
 from gaitshift.robots.schema import RobotYaml
 from gaitshift.robots.soles import SoleGeometry, sole_geometry
 from gaitshift.robots.standing import computed_standing_pose, guess_qpos
@@ -294,7 +296,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
     computed = not pose
     sites = (model.site(_mj.SOLE_SITES[0]).id, model.site(_mj.SOLE_SITES[1]).id)
     if computed:
-        straight = _com_height(model, ())
+        straight = com_height(model, ())
         height = cfg.com_height if cfg.com_height is not None else STANDING_HEIGHT_FRACTION * straight
         pose = computed_standing_pose(model, sites, legs, knees, list(roll), height)
     names = tuple(model.joint(j).name for j in joints)
@@ -329,9 +331,9 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         velocity_limit=np.array([cfg.velocity_limits.get(n, np.inf) for n in names]),
         damping_speed=damping,
         mass=float(model.body_subtreemass[1]),
-        com_height=_com_height(model, stand),
-        leg_length=_leg_length(model, cfg),
-        foot_separation=_foot_separation(model, stand),
+        com_height=com_height(model, stand),
+        leg_length=leg_length(model, cfg.hips),
+        foot_separation=foot_separation(model, stand),
         control=tuple(cfg.control.items()),
         source=source,
         standing_computed=computed,
@@ -358,43 +360,6 @@ def _mean_size(soles: tuple[SoleGeometry, ...]) -> tuple[float, float]:
         round(min(s.size[0] for s in soles), 4),
         round(min(s.size[1] for s in soles), 4),
     )
-
-
-def _com_height(model: Any, pose: tuple[tuple[str, float], ...]) -> float:
-    """CoM height above the mean sole height in ``pose`` (base upright), m."""
-    import mujoco
-
-    data = mujoco.MjData(model)
-    data.qpos[:] = _mj.standing_qpos(model, pose)
-    mujoco.mj_kinematics(model, data)
-    mujoco.mj_comPos(model, data)
-    soles = np.array([data.site(s).xpos for s in _mj.SOLE_SITES])
-    return float(data.subtree_com[1][2] - soles[:, 2].mean())
-
-
-def _foot_separation(model: Any, pose: tuple[tuple[str, float], ...]) -> float:
-    import mujoco
-
-    data = mujoco.MjData(model)
-    data.qpos[:] = _mj.standing_qpos(model, pose)
-    mujoco.mj_kinematics(model, data)
-    soles = np.array([data.site(s).xpos for s in _mj.SOLE_SITES])
-    return float(abs(soles[0, 1] - soles[1, 1]))
-
-
-def _leg_length(model: Any, cfg: RobotYaml) -> float:
-    """Shortest hip-pitch-axis-to-sole distance of the two legs with every joint at 0, m."""
-    import mujoco
-
-    data = mujoco.MjData(model)
-    data.qpos[:] = model.qpos0
-    data.qpos[3:7] = (1.0, 0.0, 0.0, 0.0)
-    mujoco.mj_kinematics(model, data)
-    legs = []
-    for side, hip in enumerate(cfg.hips):
-        anchor = data.xanchor[model.joint(hip).id]
-        legs.append(float(np.linalg.norm(anchor - data.site(_mj.SOLE_SITES[side]).xpos)))
-    return min(legs)
 
 
 @functools.lru_cache(maxsize=8)
