@@ -9,14 +9,14 @@ state of one segment is the start state of the next).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import numpy.typing as npt
 
 from gaitshift.trajectory.contract import FLIGHT
 
-__all__ = ["Segment", "sample_segment"]
+__all__ = ["Segment", "sample_segment", "segment_end"]
 
 Array = npt.NDArray[np.float64]
 
@@ -69,3 +69,10 @@ def sample_segment(seg: Segment, dt: float, g: float) -> tuple[Array, Array, Arr
     v = cd + np.outer(sh, e0 / T) + np.outer(ch, ed)
     a = np.outer(ch, e0 / (T * T)) + np.outer(sh, ed / T)
     return p, v, a, zmp
+
+
+def segment_end(seg: Segment, dt: float, g: float) -> tuple[Array, Array]:
+    """The CoM position and velocity (3,) each at the segment's end (the last row of
+    :func:`sample_segment`, evaluated alone)."""
+    p, v, _, _ = sample_segment(replace(seg, n=0), dt, g)
+    return p[0], v[0]

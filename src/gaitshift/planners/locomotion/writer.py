@@ -3,8 +3,12 @@
 :class:`StepWriter` owns the look-ahead buffer (:class:`~gaitshift.planners.online.buffer.SampleBuffer`
 of :data:`~.samples.FIELDS`), the two foot tracks (:class:`~.feet.FootTrack`), the list of footholds
 landed on and the CoM state at the end of the last step written. Every step is written whole when it
-is committed (and again from the re-plan sample on after a re-plan), so emitting a control tick is
-only a copy of buffer rows.
+is committed (and again from the re-plan sample on after a re-plan): the step's end state is
+computed at once (the next plan starts from it), its rows lazily, one phase segment at a time, when
+emission (or a re-plan) first needs them. A planning instant thus costs the solve alone, and the
+sampling is spread over the control ticks (each row is written once, as before, from the closed
+forms of :mod:`.sampling`). The foot columns are evaluated from the swing tracks the same way,
+up to the end of the CoM rows written, and again from any sample where a swing is re-targeted.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from gaitshift.planners.locomotion.feet import FootTrack, Swing
 from gaitshift.planners.locomotion.planner import Plan, is_start, touchdown_offset
 from gaitshift.planners.locomotion.record import StepRecord
 from gaitshift.planners.locomotion.samples import FIELDS, LocoSamples
-from gaitshift.planners.locomotion.sampling import sample_segment
+from gaitshift.planners.locomotion.sampling import Segment, sample_segment, segment_end
 from gaitshift.planners.locomotion.steps import STEP_CODES
 from gaitshift.planners.online.buffer import SampleBuffer
 from gaitshift.trajectory.contract import DS, FLIGHT, LEFT, RIGHT, SS
@@ -54,6 +58,8 @@ class StepWriter:
         self.footsteps: list[Foothold] = [(0.0, 0.5 * width, 0.0, 0.0, LEFT), (0.0, -0.5 * width, 0.0, 0.0, RIGHT)]
         self.end_state: tuple[Array, Array] = (np.array([0.0, 0.0, height]), np.zeros(3))
         self.bounds: list[int] = [0]
+        self.jobs: list[tuple[Segment, StepRecord, int]] = []  # CoM segments planned, not yet written
+        self.feet_upto = 0  # foot columns are written (and valid) before this sample
 
     def standing(self, a: int, b: int, heading: float, step: int) -> None:
         """Rows a..b-1 standing at rest over the feet (CoM at the last end state, ZMP under it)."""
@@ -72,8 +78,8 @@ class StepWriter:
             gait=np.zeros(m, np.int8),
             step=np.full(m, step, np.int32),
             step_type=np.full(m, -1, np.int8),
-            **self.feet_rows(a, b),
         )
+        self.feet_upto = min(self.feet_upto, a)
 
     def commit(self, rec: StepRecord, plan: Plan, p: Array, v: Array, step: int) -> None:
         """A newly committed step: its phase boundaries, its swings and its samples from its start."""
@@ -120,42 +126,53 @@ class StepWriter:
                 own_sw.retarget(i, np.array([plan.footholds[1][0], plan.footholds[1][1], rec.ground, plan.yaws[1]]))
 
     def sample(self, rec: StepRecord, i: int, p: Array, v: Array, step: int) -> None:
-        """Write the CoM from sample ``i`` (state p, v (3,)) to the end of the step, and the feet."""
+        """Plan the CoM rows from sample ``i`` (state p, v (3,)) to the end of the step: the segments
+        and the end state now, the rows when :meth:`ensure` needs them; the feet from ``i`` again."""
         segs = rec.segments(i, p, v, self.dt)
-        pe = ve = np.zeros(3)
-        for k in range(len(segs)):
-            if k > 0:  # start state: the previous segment's end (vertical from the phase spec)
-                segs[k] = replace(
-                    segs[k], p0=np.array([pe[0], pe[1], segs[k].p0[2]]), v0=np.array([ve[0], ve[1], segs[k].v0[2]])
-                )
-            seg = segs[k]
-            pos, vel, acc, zmp = sample_segment(seg, self.dt, self.g)
-            pe, ve = pos[-1].copy(), vel[-1].copy()  # the segment's end: the next one's start
-            pos, vel, acc, zmp = pos[:-1], vel[:-1], acc[:-1], zmp[:-1]
-            m = seg.n
-            ph = rec.step.phases[rec.phase_at(seg.i0)]
-            contact = np.ones((m, 2), bool)
-            if ph.kind == SS:
-                contact[:, 1 - rec.own_side] = False
-            elif ph.kind == FLIGHT:
-                contact[:] = False
-            idx = np.arange(seg.i0, seg.i0 + m)
-            self.buf.write(
-                seg.i0,
-                com_pos=pos,
-                com_vel=vel,
-                com_acc=acc,
-                zmp=zmp,
-                phase=np.full(m, ph.kind, np.int8),
-                contact=contact,
-                stiffness=np.full(m, ph.stiffness if ph.kind != FLIGHT else np.nan),
-                heading=rec.psi0 + rec.omega * (idx - rec.i0) * self.dt,
-                gait=np.full(m, int(rec.step.gait), np.int8),
-                step=np.full(m, step, np.int32),
-                step_type=np.full(m, STEP_CODES[rec.step.name], np.int8),
+        for k in range(1, len(segs)):  # start state: the previous segment's end (vertical from the phase spec)
+            pe, ve = segment_end(segs[k - 1], self.dt, self.g)
+            segs[k] = replace(
+                segs[k], p0=np.array([pe[0], pe[1], segs[k].p0[2]]), v0=np.array([ve[0], ve[1], segs[k].v0[2]])
             )
-        self.end_state = (pe, ve)
-        self.buf.write(i, **self.feet_rows(i, rec.i1))
+        self.end_state = segment_end(segs[-1], self.dt, self.g)
+        self.jobs = [(seg, rec, step) for seg in segs]
+        self.feet_upto = min(self.feet_upto, i)
+
+    def ensure(self, upto: int, feet: bool = True) -> None:
+        """Write every planned row before sample ``upto``: the CoM segments that start before it
+        (whole), then (``feet``) the foot columns up to the end of the CoM rows written."""
+        while self.jobs and self.jobs[0][0].i0 < upto:
+            self.write_segment(*self.jobs.pop(0))
+        if feet and self.feet_upto < upto:
+            b = max(upto, self.buf.n)
+            self.buf.write(self.feet_upto, **self.feet_rows(self.feet_upto, b))
+            self.feet_upto = b
+
+    def write_segment(self, seg: Segment, rec: StepRecord, step: int) -> None:
+        """The CoM rows of one segment, eqs. (1)-(6) of paper 001 in closed form (:mod:`.sampling`)."""
+        pos, vel, acc, zmp = sample_segment(seg, self.dt, self.g)
+        m = seg.n
+        ph = rec.step.phases[rec.phase_at(seg.i0)]
+        contact = np.ones((m, 2), bool)
+        if ph.kind == SS:
+            contact[:, 1 - rec.own_side] = False
+        elif ph.kind == FLIGHT:
+            contact[:] = False
+        idx = np.arange(seg.i0, seg.i0 + m)
+        self.buf.write(
+            seg.i0,
+            com_pos=pos[:-1],
+            com_vel=vel[:-1],
+            com_acc=acc[:-1],
+            zmp=zmp[:-1],
+            phase=np.full(m, ph.kind, np.int8),
+            contact=contact,
+            stiffness=np.full(m, ph.stiffness if ph.kind != FLIGHT else np.nan),
+            heading=rec.psi0 + rec.omega * (idx - rec.i0) * self.dt,
+            gait=np.full(m, int(rec.step.gait), np.int8),
+            step=np.full(m, step, np.int32),
+            step_type=np.full(m, STEP_CODES[rec.step.name], np.int8),
+        )
 
     def feet_rows(self, a: int, b: int) -> dict[str, Array]:
         """Foot columns (pose, rates, accelerations) for rows a..b-1 from the swing tracks."""
@@ -168,11 +185,13 @@ class StepWriter:
 
     def vertical_at(self, i: int) -> tuple[float, float]:
         """The planned CoM height and vertical velocity at sample ``i``."""
+        self.ensure(i + 1, feet=False)
         return float(self.buf["com_pos"][i][2]), float(self.buf["com_vel"][i][2])
 
     def emit(self, i: int, m: int, command: Array) -> LocoSamples:
         """Rows i..i+m-1 as a block (with the applied command), then release them."""
-        rows: dict[str, Any] = {k: self.buf[k][i : i + m].copy() for k in FIELDS}
+        self.ensure(i + m)
+        rows: dict[str, Any] = self.buf.rows(i, i + m)
         out = LocoSamples(np.arange(i, i + m, dtype=np.float64) * self.dt, rows, np.tile(command, (m, 1)))
         self.buf.release(i + m - 1)
         for track in self.feet.values():

@@ -74,6 +74,11 @@ class SampleBuffer:
         """The column ``name`` (index it with global sample indices)."""
         return self._columns[name]
 
+    def rows(self, start: int, stop: int) -> dict[str, np.ndarray]:
+        """Copies of every column's rows ``start .. stop-1`` (global indices)."""
+        a, b = start - self.base, stop - self.base
+        return {k: arr[a:b].copy() for k, arr in self.arrays.items()}
+
     def release(self, upto: int) -> None:
         """Samples before global index ``upto`` are no longer needed."""
         self._keep = max(self._keep, upto)
