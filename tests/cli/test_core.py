@@ -11,48 +11,22 @@ import pytest
 GAITSHIFT = str(Path(sys.executable).with_name("gaitshift"))
 
 
+def _stiffness(height: str, *extra: str) -> subprocess.CompletedProcess[str]:
+    """The console script ``gaitshift stiffness`` with the other three durations of the paper's example."""
+    args = ["--height", height, "--single-support", "0.4", "--double-support", "0.15", "--flight", "0.15", *extra]
+    return subprocess.run([GAITSHIFT, "stiffness", *args], capture_output=True, text=True, check=False)
+
+
 def test_stiffness_json_has_exactly_the_five_keys():
-    res = subprocess.run(
-        [
-            GAITSHIFT,
-            "stiffness",
-            "--height",
-            "0.95",
-            "--single-support",
-            "0.4",
-            "--double-support",
-            "0.15",
-            "--flight",
-            "0.15",
-            "--json",
-        ],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
+    res = _stiffness("0.95", "--json")
+    assert res.returncode == 0, res.stderr
     d = json.loads(res.stdout)
     assert set(d) == {"T_w", "T_r", "v_r", "T_t0", "T_t1"}
     assert d["T_w"] == pytest.approx((0.95 / 9.81) ** 0.5)
 
 
 def test_bad_height_is_one_line_exit_2_from_the_console_script():
-    res = subprocess.run(
-        [
-            GAITSHIFT,
-            "stiffness",
-            "--height",
-            "-0.5",
-            "--single-support",
-            "0.4",
-            "--double-support",
-            "0.15",
-            "--flight",
-            "0.15",
-        ],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
+    res = _stiffness("-0.5")
     assert res.returncode == 2
     assert res.stderr.count("\n") == 1 and "--height = -0.5" in res.stderr and "[0.05, 5]" in res.stderr
     assert "Traceback" not in res.stderr

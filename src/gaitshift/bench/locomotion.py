@@ -32,6 +32,21 @@ def _generators(dt: float, vx: float, yaw_rate: float) -> tuple[LocomotionGenera
     return gen, vh
 
 
+def _row(operation: str, dt: float, times: np.ndarray, baseline: str, base: Result, note: str) -> Result:
+    return Result(
+        operation,
+        f"dt={dt * 1e3:g} ms",
+        float(np.median(times)),
+        float(np.percentile(times, 99)),
+        len(times),
+        baseline,
+        base.median_s,
+        None,
+        note,
+        base.p99_s,
+    )
+
+
 def _planning_row(gen: LocomotionGenerator, vh: OnlineGenerator, reps: int, label: str) -> Result:
     """Planning alone (:meth:`LocomotionGenerator.plan_due` at each step start: the horizon solve, the
     footholds, the swings and the step's end state; its rows are written lazily by the ticks that
@@ -43,18 +58,8 @@ def _planning_row(gen: LocomotionGenerator, vh: OnlineGenerator, reps: int, labe
         times[k] = time.perf_counter() - t0
         gen.step()
     base = timed("", "", vh.step, reps)
-    return Result(
-        f"locomotion: plan one {label} step (horizon, footholds, end state)",
-        f"dt={gen.dt * 1e3:g} ms",
-        float(np.median(times)),
-        float(np.percentile(times, 99)),
-        reps,
-        "VHIP online step (paper 003)",
-        base.median_s,
-        None,
-        "goal p99 <= 1 ms",
-        base.p99_s,
-    )
+    op = f"locomotion: plan one {label} step (horizon, footholds, end state)"
+    return _row(op, gen.dt, times, "VHIP online step (paper 003)", base, "goal p99 <= 1 ms")
 
 
 def _whole_step_row(gen: LocomotionGenerator, reps: int, label: str) -> Result:
@@ -71,18 +76,8 @@ def _whole_step_row(gen: LocomotionGenerator, reps: int, label: str) -> Result:
             gen.tick()
         times[k] = time.perf_counter() - t0
     base = timed("", "", block.step, reps)
-    return Result(
-        f"locomotion: plan and emit one {label} step, tick by tick (all its samples)",
-        f"dt={gen.dt * 1e3:g} ms",
-        float(np.median(times)),
-        float(np.percentile(times, 99)),
-        reps,
-        "the same step emitted in one block",
-        base.median_s,
-        None,
-        "total cost per step, for scale",
-        base.p99_s,
-    )
+    op = f"locomotion: plan and emit one {label} step, tick by tick (all its samples)"
+    return _row(op, gen.dt, times, "the same step emitted in one block", base, "total cost per step, for scale")
 
 
 @benchmark("locomotion")
