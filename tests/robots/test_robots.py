@@ -102,3 +102,17 @@ def test_a_robots_gait_key_shortens_the_flight_and_sets_the_step_width(tmp_path)
     assert flights["t1-soft"][0] == pytest.approx(0.5 * flights["t1-plain"][0])
     assert flights["t1-soft"][1] == 0.18
     assert flights["t1-plain"][1] == pytest.approx(load_robot(str(tmp_path / "t1-plain.yaml")).foot_separation)
+
+
+def test_a_robots_ik_weights_replace_the_ik_defaults_and_unknown_ones_are_named(tmp_path):
+    from gaitshift.errors import InputError
+    from gaitshift.wholebody.ik import IKSettings, WholeBodyIK
+
+    text = (resources.files("gaitshift.robots") / "configs" / "berkeley.yaml").read_text().split("\nik:")[0]
+    (tmp_path / "b.yaml").write_text(text.replace("name: berkeley", "name: b") + "\nik: {posture_cost: 0.7}\n")
+    ik = WholeBodyIK(str(tmp_path / "b.yaml"), IKSettings(torso_cost=3.0))
+    assert (ik.settings.posture_cost, ik.settings.torso_cost) == (0.7, 3.0)
+    assert WholeBodyIK("g1").settings == IKSettings()
+    (tmp_path / "c.yaml").write_text(text.replace("name: berkeley", "name: c") + "\nik: {max_iter: 3.0}\n")
+    with pytest.raises(InputError, match=r"robot\.ik\.max_iter"):
+        load_robot(str(tmp_path / "c.yaml"))
