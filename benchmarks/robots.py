@@ -13,7 +13,7 @@ import sys
 import numpy as np
 
 from gaitshift.api import plan
-from gaitshift.robots import load_robot
+from gaitshift.robots import RobotConfig, load_robot
 from gaitshift.robots.statics import standing_statics
 from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.wholebody.ik import IKInfeasibleError, IKSettings, WholeBodyIK
@@ -31,6 +31,7 @@ def run(name: str, scenario: str) -> dict[str, object]:
     sc = scale_scenario(scenario, robot, time_scale="froude" if name in FROUDE else "keep")
     traj = plan(sc)
     row: dict[str, object] = {"robot": name, "scenario": scenario, "com_height": traj.meta.get("height")}
+    row.update(step_width=sc.profile.step_width, flight_time=sc.timing.flight)  # the YAML's gait choices
     try:
         ik = WholeBodyIK(robot, IKSettings()).solve(traj, 1.0 / (10 * traj.dt), check_velocities=False)
         model = robot.model()
@@ -63,13 +64,20 @@ def run(name: str, scenario: str) -> dict[str, object]:
     return row
 
 
+def knee_strength(robot: RobotConfig) -> float:
+    """Smaller knee torque limit / (m g leg length): the leg's strength for the robot's weight."""
+    knees = [robot.joint_names.index(k) for k in robot.knees]
+    return float(np.min(robot.torque_limit[knees]) / (robot.mass * 9.81 * robot.leg_length))
+
+
 def main(robots: list[str]) -> None:
     for name in robots or ROBOTS:
         r = load_robot(name)
         st = standing_statics(r)
         print(
             f"# {name}: mass {r.mass:.2f} kg, leg {r.leg_length:.3f} m, CoM height {r.com_height:.3f} m, "
-            f"standing torque {st.torque_fraction.max():.2f} of the limit",
+            f"standing torque {st.torque_fraction.max():.2f} of the limit, knee strength "
+            f"{knee_strength(r):.3f} (knee torque limit / (m g leg)), gait {r.flight_scale=} {r.step_width=}",
             flush=True,
         )
         for scenario in SCENARIOS:

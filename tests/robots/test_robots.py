@@ -4,12 +4,16 @@ flat on one plane with upward normals, the torque limits are finite, and 5-DoF l
 
 from __future__ import annotations
 
+from importlib import resources
+
 import mujoco
 import numpy as np
 import pytest
 from scipy.spatial import ConvexHull, Delaunay
 
+import gaitshift
 from gaitshift.robots import builtin_robots, load_robot
+from gaitshift.wholebody.scaling import scale_scenario
 
 ROBOTS = ["g1", "t1", "h1", "op3", "berkeley"]
 
@@ -73,3 +77,42 @@ def test_op3_servo_speed_bound_is_torque_over_damping_read_from_the_mjcf_text():
     assert np.allclose(robot.damping_speed, force / damping)
     assert np.allclose(robot.speed_limits()[0], force / damping) and np.all(np.isinf(robot.velocity_limit))
     assert np.all(np.isinf(load_robot("t1").speed_limits()[0]))  # no damping, no YAML limits: unchecked
+
+
+def test_a_robots_gait_key_shortens_the_flight_and_sets_the_step_width(tmp_path):
+    """``gait: {flight_scale, step_width}`` in a robot YAML: the scaled plan's flights last flight_scale x
+    the scenario's and are ballistic (touchdown speed g T_f / 2, softer by the same factor); the lateral
+    step width is the YAML's, not the standing foot separation."""
+    text = (resources.files("gaitshift.robots") / "configs" / "t1.yaml").read_text()
+    plain = text.split("\ngait:")[0]  # the shipped T1 without its own gait choices
+    (tmp_path / "t1-plain.yaml").write_text(plain.replace("name: t1", "name: t1-plain"))
+    soft = plain.replace("name: t1", "name: t1-soft") + "\ngait: {flight_scale: 0.5, step_width: 0.18}\n"
+    (tmp_path / "t1-soft.yaml").write_text(soft)
+    flights = {}
+    for name in ("t1-plain", "t1-soft"):
+        sc = scale_scenario("g1-walk-run-walk", str(tmp_path / f"{name}.yaml"))
+        traj = gaitshift.plan(sc)
+        air = ~traj.contact.any(axis=1)
+        edge = np.diff(np.r_[0, air.astype(int), 0])
+        start, end = np.flatnonzero(edge == 1), np.flatnonzero(edge == -1)
+        durations = (end - start) * traj.dt
+        assert len(start) == 10 and np.allclose(durations, sc.timing.flight)
+        assert np.allclose(traj.com_vel[end - 1, 2], -traj.gravity * sc.timing.flight / 2, atol=0.02)
+        flights[name] = (sc.timing.flight, sc.profile.step_width)
+    assert flights["t1-soft"][0] == pytest.approx(0.5 * flights["t1-plain"][0])
+    assert flights["t1-soft"][1] == 0.18
+    assert flights["t1-plain"][1] == pytest.approx(load_robot(str(tmp_path / "t1-plain.yaml")).foot_separation)
+
+
+def test_a_robots_ik_weights_replace_the_ik_defaults_and_unknown_ones_are_named(tmp_path):
+    from gaitshift.errors import InputError
+    from gaitshift.wholebody.ik import IKSettings, WholeBodyIK
+
+    text = (resources.files("gaitshift.robots") / "configs" / "berkeley.yaml").read_text().split("\nik:")[0]
+    (tmp_path / "b.yaml").write_text(text.replace("name: berkeley", "name: b") + "\nik: {posture_cost: 0.7}\n")
+    ik = WholeBodyIK(str(tmp_path / "b.yaml"), IKSettings(torso_cost=3.0))
+    assert (ik.settings.posture_cost, ik.settings.torso_cost) == (0.7, 3.0)
+    assert WholeBodyIK("g1").settings == IKSettings()
+    (tmp_path / "c.yaml").write_text(text.replace("name: berkeley", "name: c") + "\nik: {max_iter: 3.0}\n")
+    with pytest.raises(InputError, match=r"robot\.ik\.max_iter"):
+        load_robot(str(tmp_path / "c.yaml"))

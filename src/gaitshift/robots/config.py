@@ -72,6 +72,9 @@ class RobotConfig:
         leg_length: hip-pitch axis to sole centre, leg straight, m.
         foot_separation: lateral distance of the two soles in the standing pose, m.
         control: ((gain name, value), ...) controller gains of this robot.
+        ik: ((IKSettings field, value), ...) the robot's whole-body IK weights (YAML ``ik``).
+        flight_scale: factor on the flight time of running steps of scaled scenarios (YAML ``gait``).
+        step_width: lateral step width of scaled scenarios, m; None: ``foot_separation`` (YAML ``gait``).
         source: the built-in name or YAML path it was loaded from.
     """
 
@@ -102,6 +105,9 @@ class RobotConfig:
     leg_length: float
     foot_separation: float
     control: tuple[tuple[str, float], ...] = ()
+    ik: tuple[tuple[str, float], ...] = ()
+    flight_scale: float = 1.0
+    step_width: float | None = None
     source: str = ""
     standing_computed: bool = field(default=False)
 
@@ -335,6 +341,9 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         leg_length=leg_length(model, cfg.hips),
         foot_separation=foot_separation(model, stand),
         control=tuple(cfg.control.items()),
+        ik=tuple((k, v) for k, v in cfg.ik.model_dump().items() if v is not None),
+        flight_scale=cfg.gait.flight_scale,
+        step_width=cfg.gait.step_width,
         source=source,
         standing_computed=computed,
     )

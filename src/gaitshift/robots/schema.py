@@ -24,6 +24,12 @@
                        also checks torque limit / joint damping (:mod:`gaitshift.robots.mjcf`)
 ``control``            (optional) whole-body controller gains for this robot {name: value}; the names
                        are the fields of ``gaitshift.control.wbc.Gains`` (docs/robots.md)
+``ik``                 (optional) weights of the whole-body IK's soft tasks for this robot: ``posture_cost``,
+                       ``torso_cost``, ``arm_cost`` (fields of ``gaitshift.wholebody.ik.IKSettings``)
+``gait``               (optional) how a scenario is scaled to this robot (:mod:`gaitshift.wholebody.scaling`):
+                       ``flight_scale`` (0 < s <= 1) multiplies the TV-LIPM flight time of running steps
+                       (a weaker robot lands softer: touchdown speed g T_f / 2); ``step_width`` (m) is the
+                       lateral step width instead of the standing foot separation (docs/robots.md)
 =====================  ========================================================================
 """
 
@@ -60,6 +66,21 @@ class SoleQuats(StrictModel):
     right: tuple[QuatPart, QuatPart, QuatPart, QuatPart]
 
 
+class Gait(StrictModel):
+    """How scenarios are scaled to the robot (``gait`` key; :func:`gaitshift.wholebody.scaling.scale_scenario`)."""
+
+    flight_scale: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 1.0
+    step_width: Length | None = None
+
+
+class IkWeights(StrictModel):
+    """Soft-task weights of the whole-body IK for the robot (``ik`` key; unset: the IKSettings defaults)."""
+
+    posture_cost: Gain | None = None
+    torso_cost: Gain | None = None
+    arm_cost: Gain | None = None
+
+
 class RobotYaml(StrictModel):
     """The keys of a robot YAML file (see module docstring)."""
 
@@ -79,3 +100,5 @@ class RobotYaml(StrictModel):
     velocity_limits: dict[str, JointSpeed] = Field(default_factory=dict)
     velocity_limits_source: str = ""
     control: dict[str, Gain] = Field(default_factory=dict)
+    gait: Gait = Field(default_factory=Gait)
+    ik: IkWeights = Field(default_factory=IkWeights)

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -118,7 +118,8 @@ class _RowsTask:
 
 # ====================================================================== IK
 class WholeBodyIK:
-    """Whole-body IK of one robot (see module docstring). Reusable across trajectories."""
+    """Whole-body IK of one robot (see module docstring). Reusable across trajectories. The robot
+    YAML's ``ik`` weights replace those fields of ``settings``."""
 
     def __init__(self, robot: str | Path | RobotConfig = "g1", settings: IKSettings | None = None):
         import mink
@@ -126,7 +127,8 @@ class WholeBodyIK:
 
         self._mujoco, self._mink = mujoco, mink
         self.robot = load_robot(robot)
-        self.settings = s = settings or IKSettings()
+        weights: dict[str, Any] = dict(self.robot.ik)  # the robot YAML's ik weights (floats)
+        self.settings = s = replace(settings or IKSettings(), **weights)
         self.model = m = self.robot.model()
         self.q_stand = self.robot.standing_qpos(m)
         self.conf = mink.Configuration(m, self.q_stand.copy())

@@ -23,6 +23,14 @@ robot walks the same gait when every length scales with its legs. The rule:
    lambda ~ 0.27, durations x 0.52). lambda is the geometric scale factor of rule 1, which is the
    leg-length ratio of geometrically similar robots.
 
+5. **The robot's own choices** (its YAML's ``gait`` key, docs/robots.md), applied last:
+   ``flight_scale`` multiplies the flight time of the running steps (TV-LIPM ``timing.flight``). The
+   touchdown speed of a flight is g T_f / 2 whatever the robot's size, and the stance must reverse it:
+   the mean vertical force of a running stance is m g (T_s + T_f) / T_s, so a robot whose legs are weak
+   for its weight (knee torque limit / (m g leg length)) runs with a shorter flight. ``step_width``
+   replaces the foot separation of rule 3 (a robot whose standing feet are wide apart for its height
+   swings its CoM sideways by about that much at every step).
+
 Angles (yaw, yaw rate), gravity and the sampling step are unchanged.
 """
 
@@ -117,11 +125,15 @@ def scale_scenario(
         data["heights"]["stand"] = robot.com_height
         v = lam / tau
         data["commands"] = [dict(c, t=c["t"] * tau, vx=c["vx"] * v, vy=c["vy"] * v) for c in data["commands"]]
-        data["step_width"] = robot.foot_separation
     if isinstance(data.get("foot"), dict) and "size" in data["foot"]:
         data["foot"]["size"] = list(robot.sole_size)
+    width = robot.step_width if robot.step_width is not None else robot.foot_separation
+    if scenario.planner == "vhip":
+        data["step_width"] = width
     if isinstance(data.get("profile"), dict) and "step_width" in data["profile"]:
-        data["profile"]["step_width"] = robot.foot_separation
+        data["profile"]["step_width"] = width
+    if isinstance(data.get("timing"), dict) and data["timing"].get("flight") is not None:
+        data["timing"]["flight"] *= robot.flight_scale
     if data.get("footsteps"):
         data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
     data["name"] = name or f"{robot.name}-{scenario.name}"
@@ -129,7 +141,10 @@ def scale_scenario(
     data["description"] = (
         f"{desc} -- scaled to {robot.name} (lambda = {lam:.4f}: CoM height "
         f"{robot.com_height:.4f} m, lengths x lambda, robot soles and foot separation, "
-        + ("timing kept)" if tau == 1.0 else f"durations x sqrt(lambda) = {tau:.4f})")
+        + ("timing kept" if tau == 1.0 else f"durations x sqrt(lambda) = {tau:.4f}")
+        + (f", flight x {robot.flight_scale:g}" if robot.flight_scale != 1.0 else "")
+        + (f", step width {width:g} m" if robot.step_width is not None else "")
+        + ")"
     ).strip(" -")
     return load_scenario(data)
 
