@@ -4,14 +4,15 @@ Unknowns ``x = [qdd (nv), f (3k)]`` (k contact points of the stance soles). The 
 two-sided form ``bl <= [x; A x] <= bu`` (the first n entries of ``bl``/``bu`` bound x itself), with
 the rows of A in this order (:attr:`QpLayout.rows`):
 
-* ``torque``: ``-tau_max - h_a <= M_a qdd - J_a^T f <= tau_max - h_a`` (nu rows; one two-sided row per
-  motor instead of two one-sided rows);
-* ``friction``: ``|f_x|, |f_y| <= mu f_z`` per point (4k rows, constant);
-* ``cap``: per-foot ``sum f_z <= F_max`` (one row per stance foot, constant);
 * ``dynamics``: the floating-base rows of ``M qdd + h = S^T tau + Jc^T f`` (6 equalities);
-* ``feet``: non-sliding stance soles ``J_foot qdd = -Jdot_foot qd - K_v v_foot`` (6 equalities each).
+* ``torque``: ``-tau_max - h_a <= M_a qdd - J_a^T f <= tau_max - h_a`` (nu rows; one two-sided row per
+  motor instead of two one-sided rows). With these two blocks adjacent, their rows are
+  ``[M, -Jc^T]`` taken at the dofs (base, actuated): one copy per tick;
+* ``feet``: non-sliding stance soles ``J_foot qdd = -Jdot_foot qd - K_v v_foot`` (6 equalities each);
+* ``friction``: ``|f_x|, |f_y| <= mu f_z`` per point (4k rows, constant);
+* ``cap``: per-foot ``sum f_z <= F_max`` (one row per stance foot).
 
-Only the torque, dynamics and feet rows (and the bounds) change from tick to tick; the friction and
+Only the dynamics, torque and feet rows (and the bounds) change from tick to tick; the friction and
 cap rows are written here once per (stance set, friction coefficient).
 """
 
@@ -30,9 +31,10 @@ class QpLayout:
 
     Attributes:
         stance: stance feet (0 left, 1 right), in order; nv, nu: dofs and motors; k: contact points;
-        n: unknowns nv + 3k; rows: slices of A per block; A (m, n); bu, bl (n + m,); n_eq: equality
-        rows (the last ones); gram_f: (3k, 3k) ``S^T S`` of the sum of the point forces ``S = [I I ... I]``
-        (3, 3k); mu: friction coefficient.
+        n: unknowns nv + 3k; rows: slices of A per block; A (m, n); bu, bl (n + m,); sense: daqp's
+        constraint kinds (n + m,), 5 on the equality rows; up, lo: views of bu, bl per block ("x": the
+        unknowns, "dynamics+torque": both blocks); feet: the slice of side indices of the stance soles;
+        gram_f: (3k, 3k) ``S^T S`` of the sum of the point forces ``S = [I I ... I]`` (3, 3k); mu: friction coefficient.
     """
 
     stance: tuple[int, ...]
@@ -44,7 +46,10 @@ class QpLayout:
     A: np.ndarray
     bu: np.ndarray
     bl: np.ndarray
-    n_eq: int
+    sense: np.ndarray
+    up: dict[str, np.ndarray]
+    lo: dict[str, np.ndarray]
+    feet: slice
     gram_f: np.ndarray
     mu: float
 
@@ -53,7 +58,7 @@ class QpLayout:
         """The layout of ``stance`` for soles of ``n_points`` contact points each, friction ``mu``."""
         k = sum(n_points[s] for s in stance)
         n, ns = nv + 3 * k, len(stance)
-        sizes = {"torque": nu, "friction": 4 * k, "cap": ns, "dynamics": 6, "feet": 6 * ns}
+        sizes = {"dynamics": 6, "torque": nu, "feet": 6 * ns, "friction": 4 * k, "cap": ns}
         rows, start = {}, 0
         for name, size in sizes.items():
             rows[name] = slice(start, start + size)
@@ -67,13 +72,14 @@ class QpLayout:
         bu = np.full(n + start, INF)
         bl = np.full(n + start, -INF)
         bl[nv + 2 : n : 3] = 0.0  # unilateral: f_z >= 0
-        bu[n + rows["friction"].start : n + rows["friction"].stop] = 0.0
+        sense = np.zeros(n + start, dtype=np.intc)
+        shifted = {"x": slice(0, n)} | {key: slice(n + r.start, n + r.stop) for key, r in rows.items()}
+        shifted["dynamics+torque"] = slice(n, n + rows["torque"].stop)
+        for name in ("dynamics", "feet"):
+            sense[shifted[name]] = 5  # daqp: equality (active and immutable)
+        up = {key: bu[r] for key, r in shifted.items()}
+        lo = {key: bl[r] for key, r in shifted.items()}
+        up["friction"][:] = 0.0
         gram_f = np.tile(np.eye(3), (k, k))
-        return cls(tuple(stance), nv, nu, k, n, rows, A, bu, bl, 6 + 6 * ns, gram_f, mu)
-
-    def bounds(self, name: str) -> tuple[np.ndarray, np.ndarray]:
-        """Views (upper, lower) of ``bu``/``bl`` on the rows of block ``name`` ("x": the unknowns)."""
-        if name == "x":
-            return self.bu[: self.n], self.bl[: self.n]
-        r = self.rows[name]
-        return self.bu[self.n + r.start : self.n + r.stop], self.bl[self.n + r.start : self.n + r.stop]
+        feet = slice(stance[0], stance[-1] + 1) if stance else slice(0, 0)
+        return cls(tuple(stance), nv, nu, k, n, rows, A, bu, bl, sense, up, lo, feet, gram_f, mu)

@@ -3,7 +3,7 @@ and the QP solve (daqp called directly, quadprog through ``qpsolvers`` as the fa
 
 from __future__ import annotations
 
-from ctypes import c_int
+import math
 from typing import Any
 
 import daqp
@@ -34,6 +34,18 @@ def rotation_error(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
     return e
 
 
+def yaw_error(yaw: float, quat: np.ndarray) -> np.ndarray:
+    """:func:`rotation_error` of the orientation of unit quaternion ``quat`` (w, x, y, z) toward
+    ``rot_z(yaw)``, computed on quaternions: the rotation vector of ``q_yaw (x) quat^-1``, rad, (3,)."""
+    q_ref = np.array([math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw)])
+    q_inv = np.empty(4)
+    mujoco.mju_negQuat(q_inv, quat)
+    mujoco.mju_mulQuat(q_ref, q_ref, q_inv)
+    e = np.empty(3)
+    mujoco.mju_quat2Vel(e, q_ref, 1.0)
+    return e
+
+
 def friction_rows(n: int, k: int, col0: int, mu: float) -> np.ndarray:
     """Rows (4k, n) of the friction pyramids ``|f_x|, |f_y| <= mu f_z`` of k point forces stored from
     column ``col0`` as (f_x, f_y, f_z) triples: G x <= 0."""
@@ -46,33 +58,32 @@ def friction_rows(n: int, k: int, col0: int, mu: float) -> np.ndarray:
     return fr
 
 
-def solve_qp(H: np.ndarray, f: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq: int) -> tuple[Any, str]:
-    """min x^T H x / 2 + f^T x  s.t.  bl[:n] <= x <= bu[:n],  bl[n:] <= A x <= bu[n:], the last ``n_eq``
-    rows of A equalities (bl = bu there); bounds of magnitude >= :data:`INF` are absent. daqp (dual
-    active set, cold start: the previous tick's active set was measured not to help, docs/simulation.md
-    "Controller tick"), then quadprog if daqp fails. Returns (x (n,) or None, solver name)."""
-    sense = np.zeros(len(bu), dtype=c_int)
-    if n_eq:
-        sense[-n_eq:] = 5  # daqp: equality (active and immutable)
+def solve_qp(
+    H: np.ndarray, f: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, sense: np.ndarray
+) -> tuple[Any, str]:
+    """min x^T H x / 2 + f^T x  s.t.  bl[:n] <= x <= bu[:n],  bl[n:] <= A x <= bu[n:]; ``sense`` (n + m,)
+    int: 5 marks an equality row (bl = bu there), 0 an inequality; bounds of magnitude >= :data:`INF`
+    are absent. daqp (dual active set, cold start: warm starts were measured not to help,
+    docs/simulation.md "Controller tick"), then quadprog if daqp fails. Returns (x (n,) or None, solver)."""
     try:
-        x, _, flag, _ = daqp.solve(H, f, A, bu, bl, sense)
+        x, _, flag, _ = daqp.solve(H, f, A, bu, bl, sense.copy())
     except Exception:
         flag = -1
     if flag > 0:
         return x, "daqp"
-    return _quadprog(H, f, A, bu, bl, n_eq), "quadprog"
+    return _quadprog(H, f, A, bu, bl, sense), "quadprog"
 
 
-def _quadprog(H: np.ndarray, f: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, n_eq: int) -> Any:
+def _quadprog(H: np.ndarray, f: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, sense: np.ndarray) -> Any:
     """The same QP in the one-sided ``qpsolvers`` form, solved by quadprog; None when that fails too."""
     n = len(f)
-    m_in = A.shape[0] - n_eq
-    upper, lower = bu[n : n + m_in] < INF, bl[n : n + m_in] > -INF
-    G = np.vstack([A[:m_in][upper], -A[:m_in][lower]])
-    h = np.concatenate([bu[n : n + m_in][upper], -bl[n : n + m_in][lower]])
+    eq = sense[n:] == 5
+    upper, lower = ~eq & (bu[n:] < INF), ~eq & (bl[n:] > -INF)
+    G = np.vstack([A[upper], -A[lower]])
+    h = np.concatenate([bu[n:][upper], -bl[n:][lower]])
     lb = np.where(bl[:n] > -INF, bl[:n], -np.inf)
     ub = np.where(bu[:n] < INF, bu[:n], np.inf)
-    Aeq, beq = (A[m_in:], bu[n + m_in :]) if n_eq else (None, None)
+    Aeq, beq = (A[eq], bu[n:][eq]) if eq.any() else (None, None)
     try:
         return qpsolvers.solve_qp(H, f, G, h, Aeq, beq, lb=lb, ub=ub, solver="quadprog")
     except Exception:

@@ -44,10 +44,9 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from gaitshift.common.rotations import rot_z
 from gaitshift.control.plant_view import PlantView
 from gaitshift.control.qp_layout import QpLayout
-from gaitshift.control.qp_terms import INF, rotation_error, skew, solve_qp
+from gaitshift.control.qp_terms import INF, rotation_error, skew, solve_qp, yaw_error
 from gaitshift.control.wbc_data import Gains, TickInfo, TickReference
 
 __all__ = ["Gains", "TickInfo", "TickReference", "WholeBodyController", "rotation_error"]
@@ -66,18 +65,18 @@ class _Frames:
     R: list[np.ndarray]
 
 
-@dataclass
-class _Rows:
-    """Weighted least-squares rows on qdd: ``sum_i w_i ||J_i qdd - a_i||^2``; J (r, nv), a (r,), w (r,)."""
+class _Views:
+    """Views into one ``MjData`` of what the controller reads, taken once (an attribute of ``MjData``
+    builds a new array object at every access)."""
 
-    J: list[np.ndarray]
-    a: list[np.ndarray]
-    w: list[float]
-
-    def add(self, J: np.ndarray, a: np.ndarray, w: float) -> None:
-        self.J.append(J)
-        self.a.append(a)
-        self.w.append(w)
+    def __init__(self, data: mujoco.MjData, torso: int, pelvis: int) -> None:
+        self.data = data
+        self.qpos, self.qvel = data.qpos, data.qvel
+        self.com, self.com_vel, self.L = data.subtree_com[0], data.subtree_linvel[0], data.subtree_angmom[0]
+        self.bias, self.passive = data.qfrc_bias, data.qfrc_passive
+        self.xpos, self.xmat = data.xpos, data.xmat
+        self.torso_pos, self.pelvis_pos = data.xpos[torso], data.xpos[pelvis]
+        self.torso_quat, self.pelvis_quat = data.xquat[torso], data.xquat[pelvis]
 
 
 class WholeBodyController:
@@ -110,37 +109,47 @@ class WholeBodyController:
         self.last_solver = "daqp"
         self._layouts: dict[tuple[int, ...], QpLayout] = {}
         self._cached_gains: Gains | None = None
-        self._w_posture = self._w_diag = self._com_kp = self._com_kd = np.zeros(0)
+        self._w_posture = self._w_diag = self._com_kp = self._com_kd = self._row_lim = np.zeros(0)
         self._J = np.zeros((4, 6, m.nv))
         self._Jdot = np.zeros((4, 6, m.nv))
+        self._bodies = (plant.soles[0].body, plant.soles[1].body, plant.torso_body, plant.pelvis_body)
+        dofs = np.concatenate([np.arange(6), plant.actuated_dofs])  # the dynamics and torque rows
+        self._dofs: slice | np.ndarray = slice(None) if np.array_equal(dofs, np.arange(m.nv)) else dofs
+        self._views: _Views | None = None
+        self._task_J = np.zeros((18, m.nv))  # the rows of the qdd tasks (two swing feet, torso, pelvis) ...
+        self._task_a = np.zeros(18)  # ... their targets ...
+        self._task_w = np.zeros(18)  # ... and weights
 
     def _gain_arrays(self) -> None:
-        """Per-dof posture weights and CoM gain vectors, recomputed when the gains object changes."""
+        """Per-dof posture weights, CoM gain vectors and the torque-row limits, recomputed when the
+        gains object changes."""
         g = self.gains
         if self._cached_gains is g:
             return
         self._w_posture = np.where(self.arm, g.w_arm_posture, g.w_posture)
         self._w_diag = np.concatenate([np.zeros(6), self._w_posture]) + g.w_reg_qdd
         self._com_kp, self._com_kd = np.array(g.com_kp), np.array(g.com_kd)
+        self._row_lim = np.concatenate([np.zeros(6), self.plant.torque_limit * g.torque_margin])
         self._cached_gains = g
 
+    def _view(self, data: mujoco.MjData) -> _Views:
+        if self._views is None or self._views.data is not data:
+            self._views = _Views(data, self.plant.torso_body, self.plant.pelvis_body)
+        return self._views
+
     # ------------------------------------------------------------------ kinematics helpers
-    def _frames(self, data: mujoco.MjData) -> _Frames:
+    def _frames(self, data: mujoco.MjData, vw: _Views) -> _Frames:
         """Jacobians, velocities and ``Jdot qd`` of the two soles, the torso and the pelvis."""
         p = self.plant
         m = p.model
         J, Jdot = self._J, self._Jdot
-        centre, R = [], []
-        for s in (0, 1):
-            c, Rs = p.sole_frame(data, s)
-            centre.append(c)
-            R.append(Rs)
-        points = (*centre, data.xpos[p.torso_body], data.xpos[p.pelvis_body])
-        bodies = (p.soles[0].body, p.soles[1].body, p.torso_body, p.pelvis_body)
-        for i in range(4):
-            mujoco.mj_jac(m, data, J[i, :3], J[i, 3:], points[i], bodies[i])
-            mujoco.mj_jacDot(m, data, Jdot[i, :3], Jdot[i, 3:], points[i], bodies[i])
-        return _Frames(J, J @ data.qvel, Jdot @ data.qvel, centre, R)
+        c0, R0 = p.sole_frame(data, 0)
+        c1, R1 = p.sole_frame(data, 1)
+        points = (c0, c1, vw.torso_pos, vw.pelvis_pos)
+        for i, body in enumerate(self._bodies):
+            mujoco.mj_jac(m, data, J[i, :3], J[i, 3:], points[i], body)
+            mujoco.mj_jacDot(m, data, Jdot[i, :3], Jdot[i, 3:], points[i], body)
+        return _Frames(J, J @ vw.qvel, Jdot @ vw.qvel, [c0, c1], [R0, R1])
 
     def _contact_jacobian(self, stance: tuple[int, ...], fr: _Frames) -> tuple[np.ndarray, np.ndarray]:
         """Jacobian (3k, nv) of the k contact points of the stance soles and their positions (k, 3):
@@ -152,6 +161,8 @@ class WholeBodyController:
             r = self.plant.soles[s].points @ fr.R[s].T
             rows.append(fr.J[s, :3] - skew(r) @ fr.J[s, 3:])
             points.append(fr.centre[s] + r)
+        if len(stance) == 1:
+            return rows[0].reshape(-1, self.nv), points[0]
         return np.concatenate(rows).reshape(-1, self.nv), np.concatenate(points)
 
     def _layout(self, stance: tuple[int, ...]) -> QpLayout:
@@ -163,115 +174,107 @@ class WholeBodyController:
 
     # ------------------------------------------------------------------ tasks
     def _centroidal_tasks(
-        self,
-        H: np.ndarray,
-        f: np.ndarray,
-        data: mujoco.MjData,
-        ref: TickReference,
-        points: np.ndarray,
-        gram: np.ndarray,
+        self, H: np.ndarray, f: np.ndarray, vw: _Views, ref: TickReference, points: np.ndarray, gram: np.ndarray
     ) -> None:
         """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact forces, plus
         their regularisation: the (3k, 3k) force block of the cost."""
         g = self.gains
         k, nv = len(points), self.nv
-        # ``data`` is the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
-        com = data.subtree_com[0]
-        acc_des = (
-            ref.com_acc + self._com_kp * (ref.com_pos - com) + self._com_kd * (ref.com_vel - data.subtree_linvel[0])
-        )
+        # the views are of the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
+        acc_des = ref.com_acc + self._com_kp * (ref.com_pos - vw.com) + self._com_kd * (ref.com_vel - vw.com_vel)
         acc_des[2] += self.gravity
         scale = self.mass * 0.1
-        moment = skew(points - com).transpose(1, 0, 2).reshape(3, 3 * k)  # [[r_1]x ... [r_k]x]
+        moment = skew(points - vw.com).transpose(1, 0, 2).reshape(3, 3 * k)  # [[r_1]x ... [r_k]x]
         Hf = (g.w_com / self.mass**2) * gram + (g.w_angmom / scale**2) * (moment.T @ moment)
-        Hf[np.diag_indices(3 * k)] += g.w_reg_f
+        Hf.flat[:: 3 * k + 1] += g.w_reg_f
         H[nv:, nv:] = Hf
-        f[nv:] = np.tile((-g.w_com / self.mass) * acc_des, k) + moment.T @ (
-            (g.w_angmom * g.angmom_kd / scale**2) * data.subtree_angmom[0]
-        )
+        f[nv:] = moment.T @ ((g.w_angmom * g.angmom_kd / scale**2) * vw.L)
+        f[nv:].reshape(k, 3)[:] -= (g.w_com / self.mass) * acc_des
 
-    def _motion_rows(self, data: mujoco.MjData, ref: TickReference, fr: _Frames) -> _Rows:
-        """Swing-foot pose and torso and pelvis orientation rows on qdd."""
+    def _motion_rows(self, vw: _Views, ref: TickReference, fr: _Frames) -> int:
+        """Swing-foot pose and torso and pelvis orientation rows on qdd, written into the task buffers;
+        returns the number of rows."""
         g = self.gains
-        rows = _Rows([], [], [])
+        J, a, w = self._task_J, self._task_a, self._task_w
+        r = 0
         for s in (0, 1):
             if ref.stance[s]:
                 continue
             e = ref.foot_pos[s] - fr.centre[s]
             ed = ref.foot_vel[s] - fr.v[s, :3]
-            rows.add(fr.J[s, :3], ref.foot_acc[s] + g.swing_kp * e + g.swing_kd * ed - fr.Jd[s, :3], g.w_swing)
-            er = rotation_error(rot_z(ref.yaw[s]), fr.R[s])
-            w_ref = np.array([0.0, 0.0, ref.yaw_rate[s]])
-            rows.add(fr.J[s, 3:], g.swing_kp * er + g.swing_kd * (w_ref - fr.v[s, 3:]) - fr.Jd[s, 3:], g.w_swing_rot)
-        R_yaw = rot_z(ref.torso_yaw)
-        w_torso = np.array([0.0, 0.0, ref.torso_yaw_rate])
-        p = self.plant
-        for i, body, w in ((2, p.torso_body, g.w_torso), (3, p.pelvis_body, g.w_pelvis)):
-            er = rotation_error(R_yaw, data.xmat[body].reshape(3, 3))
-            rows.add(fr.J[i, 3:], g.torso_kp * er + g.torso_kd * (w_torso - fr.v[i, 3:]) - fr.Jd[i, 3:], w)
-        return rows
+            J[r : r + 6] = fr.J[s]
+            a[r : r + 3] = ref.foot_acc[s] + g.swing_kp * e + g.swing_kd * ed - fr.Jd[s, :3]
+            quat = np.empty(4)
+            mujoco.mju_mat2Quat(quat, fr.R[s].ravel())
+            a[r + 3 : r + 6] = g.swing_kp * yaw_error(ref.yaw[s], quat) - g.swing_kd * fr.v[s, 3:] - fr.Jd[s, 3:]
+            a[r + 5] += g.swing_kd * ref.yaw_rate[s]  # the damping term tracks the reference yaw rate
+            w[r : r + 3], w[r + 3 : r + 6] = g.w_swing, g.w_swing_rot
+            r += 6
+        for i, quat, wi in ((2, vw.torso_quat, g.w_torso), (3, vw.pelvis_quat, g.w_pelvis)):
+            J[r : r + 3] = fr.J[i, 3:]
+            a[r : r + 3] = g.torso_kp * yaw_error(ref.torso_yaw, quat) - g.torso_kd * fr.v[i, 3:] - fr.Jd[i, 3:]
+            a[r + 2] += g.torso_kd * ref.torso_yaw_rate
+            w[r : r + 3] = wi
+            r += 3
+        return r
 
-    def _motion_tasks(self, H: np.ndarray, f: np.ndarray, data: mujoco.MjData, rows: _Rows) -> None:
+    def _motion_tasks(self, H: np.ndarray, f: np.ndarray, vw: _Views, n_rows: int) -> None:
         """The (nv, nv) qdd block of the cost: the stacked task rows, posture (joint PD toward the
         standing pose) and regularisation on the diagonal."""
         g = self.gains
         nv = self.nv
-        J = np.concatenate(rows.J)
-        w = np.repeat(rows.w, 3)
-        Hq = (J.T * w) @ J
-        Hq[np.diag_indices(nv)] += self._w_diag
+        J, w = self._task_J[:n_rows], self._task_w[:n_rows]
+        Jw = J.T * w
+        Hq = Jw @ J
+        Hq.flat[:: nv + 1] += self._w_diag
         H[:nv, :nv] = Hq
-        a_post = g.posture_kp * (self.q_posture - data.qpos[7:]) - g.posture_kd * data.qvel[6:]
-        f[:nv] = J.T @ (w * np.concatenate(rows.a))
+        a_post = g.posture_kp * (self.q_posture - vw.qpos[7:]) - g.posture_kd * vw.qvel[6:]
+        f[:nv] = Jw @ self._task_a[:n_rows]
         f[6:nv] += self._w_posture * a_post
         f[:nv] *= -1.0
 
     # ------------------------------------------------------------------ constraints
     def _constraints(self, lay: QpLayout, h: np.ndarray, Jc: np.ndarray, fr: _Frames, ref: TickReference) -> None:
-        """Refill the changing rows of ``lay``: torque limits, floating-base dynamics, non-sliding feet,
-        force caps (:mod:`gaitshift.control.qp_layout`)."""
-        nv, M, A = self.nv, self.M, lay.A
-        Sa = self.plant.actuated_dofs
-        r = lay.rows["torque"]
-        A[r, :nv] = M[Sa]
-        A[r, nv:] = -Jc[:, Sa].T
-        up, lo = lay.bounds("torque")
-        lim = self.plant.torque_limit * self.gains.torque_margin
-        hs = h[Sa]
-        np.subtract(lim, hs, out=up)
-        np.subtract(-lim, hs, out=lo)
-        lay.bounds("cap")[0][:] = ref.fz_max[list(lay.stance)]
-        r = lay.rows["dynamics"]
-        A[r, :nv] = M[:6]
-        A[r, nv:] = -Jc[:, :6].T
-        up, lo = lay.bounds("dynamics")
-        up[:] = lo[:] = -h[:6]
+        """Refill the changing rows of ``lay``: floating-base dynamics and torque limits (one block,
+        ``[M, -Jc^T]`` at the base and actuated dofs), non-sliding feet, force caps
+        (:mod:`gaitshift.control.qp_layout`)."""
+        nv, A = self.nv, lay.A
+        r = slice(0, lay.rows["torque"].stop)
+        A[r, :nv] = self.M[self._dofs]
+        np.negative(Jc.T[self._dofs], out=A[r, nv:])
+        h_rows = h[self._dofs]
+        np.subtract(self._row_lim, h_rows, out=lay.up["dynamics+torque"])
+        np.subtract(-self._row_lim, h_rows, out=lay.lo["dynamics+torque"])
         if lay.stance:
-            st = list(lay.stance)
-            r = lay.rows["feet"]
-            A[r, :nv] = fr.J[st].reshape(-1, nv)
-            up, lo = lay.bounds("feet")
-            up[:] = lo[:] = (-fr.Jd[st] - self.gains.stance_kv * fr.v[st]).ravel()
+            lay.up["cap"][:] = ref.fz_max[lay.feet]
+            A[lay.rows["feet"], :nv] = fr.J[lay.feet].reshape(-1, nv)
+            b = (-fr.Jd[lay.feet] - self.gains.stance_kv * fr.v[lay.feet]).ravel()
+            lay.up["feet"][:] = b
+            lay.lo["feet"][:] = b
 
-    def _knee_bounds(self, data: mujoco.MjData, ref: TickReference, lay: QpLayout) -> None:
+    def _knee_bounds(self, vw: _Views, ref: TickReference, lay: QpLayout) -> None:
         """Bounds on the swinging knees' accelerations that keep them ``limit_margin`` inside their
         range over ``limit_horizon`` s: ``q + v T + a T^2 / 2`` within the range. Without them the
         trailing knee of a fast running swing is driven straight into its limit just after lift-off
         (docs/simulation.md, "Top speed")."""
         g = self.gains
         T = g.limit_horizon
-        ub, lb = lay.bounds("x")
         for s in (0, 1):
             if ref.stance[s]:
                 continue
-            drift = float(data.qpos[self.knee_qadr[s]]) + float(data.qvel[self.knee_dofs[s]]) * T
+            drift = float(vw.qpos[self.knee_qadr[s]]) + float(vw.qvel[self.knee_dofs[s]]) * T
             lo = 2.0 * (float(self.knee_range[s, 0]) + g.limit_margin - drift) / T**2
             hi = 2.0 * (float(self.knee_range[s, 1]) - g.limit_margin - drift) / T**2
-            lb[self.knee_dofs[s]], ub[self.knee_dofs[s]] = min(lo, hi), max(lo, hi)
+            lay.lo["x"][self.knee_dofs[s]], lay.up["x"][self.knee_dofs[s]] = min(lo, hi), max(lo, hi)
+
+    def _free_knees(self, lay: QpLayout) -> None:
+        """No bounds on the knee accelerations."""
+        for dof in self.knee_dofs:
+            lay.lo["x"][dof], lay.up["x"][dof] = -INF, INF
 
     def _solve(self, H: np.ndarray, f: np.ndarray, lay: QpLayout) -> np.ndarray | None:
         """The QP solution x, or None (:func:`gaitshift.control.qp_terms.solve_qp`)."""
-        x, self.last_solver = solve_qp(H, f, lay.A, lay.bu, lay.bl, lay.n_eq)
+        x, self.last_solver = solve_qp(H, f, lay.A, lay.bu, lay.bl, lay.sense)
         return x  # type: ignore[no-any-return]
 
     # ------------------------------------------------------------------ the QP
@@ -280,26 +283,25 @@ class WholeBodyController:
         (``mj_forward`` or ``mj_step1``) and ``mj_subtreeVel``."""
         p = self.plant
         nv = self.nv
+        vw = self._view(data)
         mujoco.mj_fullM(p.model, data, self.M)
-        h = data.qfrc_bias - data.qfrc_passive
+        h = vw.bias - vw.passive
         stance = tuple(s for s in (0, 1) if ref.stance[s])
         lay = self._layout(stance)
         H = np.zeros((lay.n, lay.n))
         f = np.zeros(lay.n)
         self._gain_arrays()
-        fr = self._frames(data)
+        fr = self._frames(data, vw)
         Jc, points = self._contact_jacobian(stance, fr)
         if len(points):
-            self._centroidal_tasks(H, f, data, ref, points, lay.gram_f)
-        self._motion_tasks(H, f, data, self._motion_rows(data, ref, fr))
+            self._centroidal_tasks(H, f, vw, ref, points, lay.gram_f)
+        self._motion_tasks(H, f, vw, self._motion_rows(vw, ref, fr))
         self._constraints(lay, h, Jc, fr, ref)
-        ub, lb = lay.bounds("x")
-        ub[self.knee_dofs], lb[self.knee_dofs] = INF, -INF
         x = None
         if self.gains.limit_horizon > 0:  # with the knee-limit bounds, then without if infeasible
-            self._knee_bounds(data, ref, lay)
+            self._knee_bounds(vw, ref, lay)
             x = self._solve(H, f, lay)
-            ub[self.knee_dofs], lb[self.knee_dofs] = INF, -INF
+            self._free_knees(lay)
         if x is None:
             x = self._solve(H, f, lay)
         info = TickInfo(ok=x is not None, solver=self.last_solver)
@@ -307,7 +309,7 @@ class WholeBodyController:
         if x is None:
             # infeasible: drop the stance and torque constraints' coupling, keep posture (safe fallback)
             lim = p.torque_limit * self.gains.torque_margin
-            qj, vj = data.qpos[7:], data.qvel[6:]
+            qj, vj = vw.qpos[7:], vw.qvel[6:]
             tau = np.clip(self.gains.posture_kp * 0.5 * (self.q_posture - qj) - 2.0 * vj + h[Sa], -lim, lim)
             return tau, info
         qdd, fc = x[:nv], x[nv:]
@@ -320,4 +322,4 @@ class WholeBodyController:
             start += k
         info.forces = forces
         info.qdd, info.contact_forces, info.contact_jacobian = qdd, fc, Jc
-        return np.clip(tau, -p.torque_limit, p.torque_limit), info
+        return np.minimum(np.maximum(tau, -p.torque_limit), p.torque_limit), info
