@@ -61,7 +61,7 @@ class _Frames:
     J: np.ndarray
     v: np.ndarray
     Jd: np.ndarray
-    centre: list[np.ndarray]
+    centre: np.ndarray
     R: list[np.ndarray]
 
 
@@ -116,9 +116,11 @@ class WholeBodyController:
         dofs = np.concatenate([np.arange(6), plant.actuated_dofs])  # the dynamics and torque rows
         self._dofs: slice | np.ndarray = slice(None) if np.array_equal(dofs, np.arange(m.nv)) else dofs
         self._views: _Views | None = None
-        self._task_J = np.zeros((18, m.nv))  # the rows of the qdd tasks (two swing feet, torso, pelvis) ...
-        self._task_a = np.zeros(18)  # ... their targets ...
-        self._task_w = np.zeros(18)  # ... and weights
+        # PD terms of the frame tasks, (4, 6) per frame (rows of _Frames): errors, velocity references,
+        # feedforward accelerations; gains and weights (with the gains); rows in use per stance set
+        self._err, self._vref, self._ff = np.zeros((4, 6)), np.zeros((4, 6)), np.zeros((4, 6))
+        self._kp = self._kd = self._w_task = self._task_a = np.zeros((4, 6))
+        self._task_rows: dict[tuple[int, ...], np.ndarray] = {}
 
     def _gain_arrays(self) -> None:
         """Per-dof posture weights, CoM gain vectors and the torque-row limits, recomputed when the
@@ -130,6 +132,11 @@ class WholeBodyController:
         self._w_diag = np.concatenate([np.zeros(6), self._w_posture]) + g.w_reg_qdd
         self._com_kp, self._com_kd = np.array(g.com_kp), np.array(g.com_kd)
         self._row_lim = np.concatenate([np.zeros(6), self.plant.torque_limit * g.torque_margin])
+        sw, up = np.full(6, g.swing_kp), np.full(6, g.torso_kp)
+        self._kp = np.array([sw, sw, up, up])
+        self._kd = np.array([np.full(6, g.swing_kd)] * 2 + [np.full(6, g.torso_kd)] * 2)
+        foot = [g.w_swing] * 3 + [g.w_swing_rot] * 3
+        self._w_task = np.array([foot, foot, [0.0] * 3 + [g.w_torso] * 3, [0.0] * 3 + [g.w_pelvis] * 3])
         self._cached_gains = g
 
     def _view(self, data: mujoco.MjData) -> _Views:
@@ -149,7 +156,7 @@ class WholeBodyController:
         for i, body in enumerate(self._bodies):
             mujoco.mj_jac(m, data, J[i, :3], J[i, 3:], points[i], body)
             mujoco.mj_jacDot(m, data, Jdot[i, :3], Jdot[i, 3:], points[i], body)
-        return _Frames(J, J @ vw.qvel, Jdot @ vw.qvel, [c0, c1], [R0, R1])
+        return _Frames(J, J @ vw.qvel, Jdot @ vw.qvel, np.array([c0, c1]), [R0, R1])
 
     def _contact_jacobian(self, stance: tuple[int, ...], fr: _Frames) -> tuple[np.ndarray, np.ndarray]:
         """Jacobian (3k, nv) of the k contact points of the stance soles and their positions (k, 3):
@@ -191,45 +198,44 @@ class WholeBodyController:
         f[nv:] = moment.T @ ((g.w_angmom * g.angmom_kd / scale**2) * vw.L)
         f[nv:].reshape(k, 3)[:] -= (g.w_com / self.mass) * acc_des
 
-    def _motion_rows(self, vw: _Views, ref: TickReference, fr: _Frames) -> int:
-        """Swing-foot pose and torso and pelvis orientation rows on qdd, written into the task buffers;
-        returns the number of rows."""
-        g = self.gains
-        J, a, w = self._task_J, self._task_a, self._task_w
-        r = 0
+    def _motion_rows(self, vw: _Views, ref: TickReference, fr: _Frames) -> np.ndarray:
+        """Swing-foot pose and torso and pelvis orientation: the PD targets of the four frames,
+        ``a = K_p e + K_d (v_ref - J qd) - Jdot qd + a_ff`` (4, 6), and the indices of the rows in use
+        among the 24 frame rows (position and orientation of the swing soles, orientation of the torso
+        and the pelvis)."""
+        stance = (bool(ref.stance[0]), bool(ref.stance[1]))
+        rows = self._task_rows.get(stance)
+        if rows is None:
+            swing = [r for s in (0, 1) if not stance[s] for r in range(6 * s, 6 * s + 6)]
+            rows = self._task_rows[stance] = np.array([*swing, 15, 16, 17, 21, 22, 23])
+        err, vref, ff = self._err, self._vref, self._ff
+        err[:2, :3] = ref.foot_pos - fr.centre
+        vref[:2, :3] = ref.foot_vel
+        vref[:2, 5] = ref.yaw_rate
+        vref[2:, 5] = ref.torso_yaw_rate
+        ff[:2, :3] = ref.foot_acc
         for s in (0, 1):
-            if ref.stance[s]:
-                continue
-            e = ref.foot_pos[s] - fr.centre[s]
-            ed = ref.foot_vel[s] - fr.v[s, :3]
-            J[r : r + 6] = fr.J[s]
-            a[r : r + 3] = ref.foot_acc[s] + g.swing_kp * e + g.swing_kd * ed - fr.Jd[s, :3]
-            quat = np.empty(4)
-            mujoco.mju_mat2Quat(quat, fr.R[s].ravel())
-            a[r + 3 : r + 6] = g.swing_kp * yaw_error(ref.yaw[s], quat) - g.swing_kd * fr.v[s, 3:] - fr.Jd[s, 3:]
-            a[r + 5] += g.swing_kd * ref.yaw_rate[s]  # the damping term tracks the reference yaw rate
-            w[r : r + 3], w[r + 3 : r + 6] = g.w_swing, g.w_swing_rot
-            r += 6
-        for i, quat, wi in ((2, vw.torso_quat, g.w_torso), (3, vw.pelvis_quat, g.w_pelvis)):
-            J[r : r + 3] = fr.J[i, 3:]
-            a[r : r + 3] = g.torso_kp * yaw_error(ref.torso_yaw, quat) - g.torso_kd * fr.v[i, 3:] - fr.Jd[i, 3:]
-            a[r + 2] += g.torso_kd * ref.torso_yaw_rate
-            w[r : r + 3] = wi
-            r += 3
-        return r
+            if not stance[s]:
+                quat = np.empty(4)
+                mujoco.mju_mat2Quat(quat, fr.R[s].ravel())
+                err[s, 3:] = yaw_error(ref.yaw[s], quat)
+        err[2, 3:] = yaw_error(ref.torso_yaw, vw.torso_quat)
+        err[3, 3:] = yaw_error(ref.torso_yaw, vw.pelvis_quat)
+        self._task_a = self._kp * err + self._kd * (vref - fr.v) - fr.Jd + ff
+        return rows
 
-    def _motion_tasks(self, H: np.ndarray, f: np.ndarray, vw: _Views, n_rows: int) -> None:
+    def _motion_tasks(self, H: np.ndarray, f: np.ndarray, vw: _Views, fr: _Frames, rows: np.ndarray) -> None:
         """The (nv, nv) qdd block of the cost: the stacked task rows, posture (joint PD toward the
         standing pose) and regularisation on the diagonal."""
         g = self.gains
         nv = self.nv
-        J, w = self._task_J[:n_rows], self._task_w[:n_rows]
+        J, w = fr.J.reshape(24, nv)[rows], self._w_task.ravel()[rows]
         Jw = J.T * w
         Hq = Jw @ J
         Hq.flat[:: nv + 1] += self._w_diag
         H[:nv, :nv] = Hq
         a_post = g.posture_kp * (self.q_posture - vw.qpos[7:]) - g.posture_kd * vw.qvel[6:]
-        f[:nv] = Jw @ self._task_a[:n_rows]
+        f[:nv] = Jw @ self._task_a.ravel()[rows]
         f[6:nv] += self._w_posture * a_post
         f[:nv] *= -1.0
 
@@ -295,7 +301,7 @@ class WholeBodyController:
         Jc, points = self._contact_jacobian(stance, fr)
         if len(points):
             self._centroidal_tasks(H, f, vw, ref, points, lay.gram_f)
-        self._motion_tasks(H, f, vw, self._motion_rows(vw, ref, fr))
+        self._motion_tasks(H, f, vw, fr, self._motion_rows(vw, ref, fr))
         self._constraints(lay, h, Jc, fr, ref)
         x = None
         if self.gains.limit_horizon > 0:  # with the knee-limit bounds, then without if infeasible
