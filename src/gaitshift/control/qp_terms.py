@@ -1,24 +1,28 @@
-"""Small pieces of the whole-body QP: least-squares tasks, the cross-product matrix, rotation errors,
-friction pyramids, and the QP solve with a fallback solver."""
+"""Small pieces of the whole-body QP: the cross-product matrix, rotation errors, friction pyramids,
+and the QP solve (daqp called directly, quadprog through ``qpsolvers`` as the fallback)."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+import daqp
 import mujoco
 import numpy as np
 import qpsolvers
 
+#: what stands for an absent bound in the daqp form (daqp's own convention)
+INF = 1e30
+
+#: (3, 9): ``v @ _SKEW`` is the row-major flattened [v]x
+_SKEW = np.zeros((3, 9))
+_SKEW[[2, 1, 2, 0, 1, 0], [1, 2, 3, 5, 6, 7]] = [-1.0, 1.0, 1.0, -1.0, -1.0, 1.0]
+
 
 def skew(v: np.ndarray) -> np.ndarray:
-    """[v]x, (3, 3): skew(v) @ w = v x w."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
-def add_task(P: np.ndarray, qv: np.ndarray, A: np.ndarray, b: np.ndarray, w: float, cols: slice) -> None:
-    """Add the least-squares task ``w ||A x[cols] - b||^2`` to the QP cost ``x^T P x / 2 + qv^T x``."""
-    P[cols, cols] += w * A.T @ A
-    qv[cols] -= w * A.T @ b
+    """[v]x of one vector (3,) or of a stack (..., 3), shape (..., 3, 3): skew(v) @ w = v x w."""
+    v = np.asarray(v, float)
+    return (v @ _SKEW).reshape(*v.shape[:-1], 3, 3)
 
 
 def rotation_error(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
@@ -27,6 +31,18 @@ def rotation_error(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
     mujoco.mju_mat2Quat(quat, (R_ref @ R.T).ravel())
     e = np.empty(3)
     mujoco.mju_quat2Vel(e, quat, 1.0)
+    return e
+
+
+def yaw_error(yaw: float, quat: np.ndarray) -> np.ndarray:
+    """:func:`rotation_error` of the orientation of unit quaternion ``quat`` (w, x, y, z) toward
+    ``rot_z(yaw)``, computed on quaternions: the rotation vector of ``q_yaw (x) quat^-1``, rad, (3,)."""
+    q_ref = np.array([math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw)])
+    q_inv = np.empty(4)
+    mujoco.mju_negQuat(q_inv, quat)
+    mujoco.mju_mulQuat(q_ref, q_ref, q_inv)
+    e = np.empty(3)
+    mujoco.mju_quat2Vel(e, q_ref, 1.0)
     return e
 
 
@@ -42,18 +58,33 @@ def friction_rows(n: int, k: int, col0: int, mu: float) -> np.ndarray:
     return fr
 
 
-def solve_qp(cost: tuple[np.ndarray, np.ndarray], ineq: Any, eq: tuple[np.ndarray, np.ndarray]) -> tuple[Any, str]:
-    """min x^T P x / 2 + q^T x s.t. G x <= h, lb <= x <= ub, A x = b with ``cost`` (P, q), ``ineq``
-    (G, h, lb, ub), ``eq`` (A, b): daqp, then quadprog if daqp fails. Returns (x or None, solver)."""
-    P, q = cost
-    G, h, lb, ub = ineq
-    A, b = eq
-    solver = "daqp"
-    for solver in ("daqp", "quadprog"):
-        try:
-            x = qpsolvers.solve_qp(P, q, G, h, A, b, lb=lb, ub=ub, solver=solver)
-        except Exception:
-            x = None
-        if x is not None:
-            return x, solver
-    return None, solver
+def solve_qp(
+    H: np.ndarray, f: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, sense: np.ndarray
+) -> tuple[Any, str]:
+    """min x^T H x / 2 + f^T x  s.t.  bl[:n] <= x <= bu[:n],  bl[n:] <= A x <= bu[n:]; ``sense`` (n + m,)
+    int: 5 marks an equality row (bl = bu there), 0 an inequality; bounds of magnitude >= :data:`INF`
+    are absent. daqp (dual active set, cold start: warm starts were measured not to help,
+    docs/simulation.md "Controller tick"), then quadprog if daqp fails. Returns (x (n,) or None, solver)."""
+    try:
+        x, _, flag, _ = daqp.solve(H, f, A, bu, bl, sense.copy())
+    except Exception:
+        flag = -1
+    if flag > 0:
+        return x, "daqp"
+    return _quadprog(H, f, A, bu, bl, sense), "quadprog"
+
+
+def _quadprog(H: np.ndarray, f: np.ndarray, A: np.ndarray, bu: np.ndarray, bl: np.ndarray, sense: np.ndarray) -> Any:
+    """The same QP in the one-sided ``qpsolvers`` form, solved by quadprog; None when that fails too."""
+    n = len(f)
+    eq = sense[n:] == 5
+    upper, lower = ~eq & (bu[n:] < INF), ~eq & (bl[n:] > -INF)
+    G = np.vstack([A[upper], -A[lower]])
+    h = np.concatenate([bu[n:][upper], -bl[n:][lower]])
+    lb = np.where(bl[:n] > -INF, bl[:n], -np.inf)
+    ub = np.where(bu[:n] < INF, bu[:n], np.inf)
+    Aeq, beq = (A[eq], bu[n:][eq]) if eq.any() else (None, None)
+    try:
+        return qpsolvers.solve_qp(H, f, G, h, Aeq, beq, lb=lb, ub=ub, solver="quadprog")
+    except Exception:
+        return None

@@ -11,7 +11,12 @@ foot, world frame: the four sphere bottoms of the G1, the corners of a box sole)
 ``tau = S (M qdd + h - Jc^T f)`` of them, so torque limits are linear inequalities in x. Eliminating
 tau this way is exact and keeps the QP at nv + 3k variables (35 + 24 for the G1 in double support).
 Gains, references and diagnostics: :mod:`gaitshift.control.wbc_data`; QP pieces:
-:mod:`gaitshift.control.qp_terms`.
+:mod:`gaitshift.control.qp_terms`; the fixed structure per stance set (two-sided torque rows, the
+constant friction and cap rows, reused each tick): :mod:`gaitshift.control.qp_layout`.
+
+The cost is block diagonal: every task acts either on qdd or on f. Each block is assembled with one
+product of the stacked, weighted task rows (``H = sum_t w_t A_t^T A_t``), and the QP goes straight to
+daqp (docs/simulation.md, "Controller tick").
 
 Hard constraints:
     * floating-base rows of (1) (6 equations);
@@ -35,28 +40,43 @@ Weighted tasks (least squares, accelerations in m/s^2 or rad/s^2):
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import mujoco
 import numpy as np
 
-from gaitshift.common.rotations import rot_z
 from gaitshift.control.plant_view import PlantView
-from gaitshift.control.qp_terms import add_task, friction_rows, rotation_error, skew, solve_qp
+from gaitshift.control.qp_layout import QpLayout
+from gaitshift.control.qp_terms import INF, rotation_error, skew, solve_qp, yaw_error
 from gaitshift.control.wbc_data import Gains, TickInfo, TickReference
 
 __all__ = ["Gains", "TickInfo", "TickReference", "WholeBodyController", "rotation_error"]
 
 
 @dataclass
-class _Feet:
-    """Both sole frames at the current state: Jacobians (6, nv) (linear then angular), Jdot qd (6,),
-    centres (3,) and rotations (3, 3), indexed by side."""
+class _Frames:
+    """The four task frames at the current state, in the order (left sole, right sole, torso, pelvis):
+    Jacobians J (4, 6, nv) (linear then angular, at the sole centre / the body origin), velocities
+    ``v = J qd`` (4, 6), ``Jdot qd`` (4, 6); sole centres (2, 3) and sole rotations (2, 3, 3)."""
 
-    J: list[np.ndarray]
-    Jd: list[np.ndarray]
-    centre: list[np.ndarray]
+    J: np.ndarray
+    v: np.ndarray
+    Jd: np.ndarray
+    centre: np.ndarray
     R: list[np.ndarray]
+
+
+class _Views:
+    """Views into one ``MjData`` of what the controller reads, taken once (an attribute of ``MjData``
+    builds a new array object at every access)."""
+
+    def __init__(self, data: mujoco.MjData, torso: int, pelvis: int) -> None:
+        self.data = data
+        self.qpos, self.qvel = data.qpos, data.qvel
+        self.com, self.com_vel, self.L = data.subtree_com[0], data.subtree_linvel[0], data.subtree_angmom[0]
+        self.bias, self.passive = data.qfrc_bias, data.qfrc_passive
+        self.xpos, self.xmat = data.xpos, data.xmat
+        self.torso_pos, self.pelvis_pos = data.xpos[torso], data.xpos[pelvis]
+        self.torso_quat, self.pelvis_quat = data.xquat[torso], data.xquat[pelvis]
 
 
 class WholeBodyController:
@@ -76,12 +96,6 @@ class WholeBodyController:
         self.nu = m.nu
         self.M = np.zeros((m.nv, m.nv))
         self.q_posture = posture[7:].copy()
-        self._jp = np.zeros((3, m.nv))
-        self._jr = np.zeros((3, m.nv))
-        self._jpd = np.zeros((3, m.nv))
-        self._jrd = np.zeros((3, m.nv))
-        self.S = np.zeros((m.nu, m.nv))
-        self.S[np.arange(m.nu), plant.actuated_dofs] = 1.0
         names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, m.dof_jntid[d]) for d in plant.actuated_dofs]
         arms = set(plant.robot.arm_joints)
         self.arm = np.array([n in arms for n in names])
@@ -93,163 +107,181 @@ class WholeBodyController:
         self.mass = plant.mass
         self.gravity = -float(m.opt.gravity[2])
         self.last_solver = "daqp"
+        self._layouts: dict[tuple[int, ...], QpLayout] = {}
+        self._cached_gains: Gains | None = None
+        self._w_posture = self._w_diag = self._com_kp = self._com_kd = self._row_lim = np.zeros(0)
+        self._J = np.zeros((4, 6, m.nv))
+        self._Jdot = np.zeros((4, 6, m.nv))
+        self._bodies = (plant.soles[0].body, plant.soles[1].body, plant.torso_body, plant.pelvis_body)
+        dofs = np.concatenate([np.arange(6), plant.actuated_dofs])  # the dynamics and torque rows
+        self._dofs: slice | np.ndarray = slice(None) if np.array_equal(dofs, np.arange(m.nv)) else dofs
+        self._views: _Views | None = None
+        # PD terms of the frame tasks, (4, 6) per frame (rows of _Frames): errors, velocity references,
+        # feedforward accelerations; gains and weights (with the gains); rows in use per stance set
+        self._err, self._vref, self._ff = np.zeros((4, 6)), np.zeros((4, 6)), np.zeros((4, 6))
+        self._kp = self._kd = self._w_task = self._task_a = np.zeros((4, 6))
+        self._task_rows: dict[tuple[int, ...], np.ndarray] = {}
+
+    def _gain_arrays(self) -> None:
+        """Per-dof posture weights, CoM gain vectors and the torque-row limits, recomputed when the
+        gains object changes."""
+        g = self.gains
+        if self._cached_gains is g:
+            return
+        self._w_posture = np.where(self.arm, g.w_arm_posture, g.w_posture)
+        self._w_diag = np.concatenate([np.zeros(6), self._w_posture]) + g.w_reg_qdd
+        self._com_kp, self._com_kd = np.array(g.com_kp), np.array(g.com_kd)
+        self._row_lim = np.concatenate([np.zeros(6), self.plant.torque_limit * g.torque_margin])
+        sw, up = np.full(6, g.swing_kp), np.full(6, g.torso_kp)
+        self._kp = np.array([sw, sw, up, up])
+        self._kd = np.array([np.full(6, g.swing_kd)] * 2 + [np.full(6, g.torso_kd)] * 2)
+        foot = [g.w_swing] * 3 + [g.w_swing_rot] * 3
+        self._w_task = np.array([foot, foot, [0.0] * 3 + [g.w_torso] * 3, [0.0] * 3 + [g.w_pelvis] * 3])
+        self._cached_gains = g
+
+    def _view(self, data: mujoco.MjData) -> _Views:
+        if self._views is None or self._views.data is not data:
+            self._views = _Views(data, self.plant.torso_body, self.plant.pelvis_body)
+        return self._views
 
     # ------------------------------------------------------------------ kinematics helpers
-    def _frame_jac(self, data: mujoco.MjData, body: int, point: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(J (6, nv), Jdot qd (6,)) of a point fixed on ``body`` (linear then angular)."""
-        m = self.plant.model
-        mujoco.mj_jac(m, data, self._jp, self._jr, point, body)
-        mujoco.mj_jacDot(m, data, self._jpd, self._jrd, point, body)
-        J = np.vstack([self._jp, self._jr])
-        Jd = np.concatenate([self._jpd @ data.qvel, self._jrd @ data.qvel])
-        return J, Jd
-
-    def _feet(self, data: mujoco.MjData) -> _Feet:
-        feet = _Feet([], [], [], [])
-        for s in (0, 1):
-            c, R = self.plant.sole_frame(data, s)
-            J, Jd = self._frame_jac(data, self.plant.soles[s].body, c)
-            feet.J.append(J)
-            feet.Jd.append(Jd)
-            feet.centre.append(c)
-            feet.R.append(R)
-        return feet
-
-    def _contact_jacobian(self, stance: list[int], feet: _Feet) -> tuple[np.ndarray, np.ndarray]:
-        """Jacobian (3k, nv) of the k contact points of the stance soles and their positions (k, 3)."""
+    def _frames(self, data: mujoco.MjData, vw: _Views) -> _Frames:
+        """Jacobians, velocities and ``Jdot qd`` of the two soles, the torso and the pelvis."""
         p = self.plant
+        m = p.model
+        J, Jdot = self._J, self._Jdot
+        c0, R0 = p.sole_frame(data, 0)
+        c1, R1 = p.sole_frame(data, 1)
+        points = (c0, c1, vw.torso_pos, vw.pelvis_pos)
+        for i, body in enumerate(self._bodies):
+            mujoco.mj_jac(m, data, J[i, :3], J[i, 3:], points[i], body)
+            mujoco.mj_jacDot(m, data, Jdot[i, :3], Jdot[i, 3:], points[i], body)
+        return _Frames(J, J @ vw.qvel, Jdot @ vw.qvel, np.array([c0, c1]), [R0, R1])
+
+    def _contact_jacobian(self, stance: tuple[int, ...], fr: _Frames) -> tuple[np.ndarray, np.ndarray]:
+        """Jacobian (3k, nv) of the k contact points of the stance soles and their positions (k, 3):
+        ``J_i = J_lin - [r_i]x J_ang`` with r_i the point's offset from the sole centre."""
+        if not stance:
+            return np.zeros((0, self.nv)), np.zeros((0, 3))
         rows, points = [], []
         for s in stance:
-            pts = feet.centre[s] + p.soles[s].points @ feet.R[s].T
-            for pt in pts:
-                rows.append(feet.J[s][:3] - skew(pt - feet.centre[s]) @ feet.J[s][3:])
-            points.append(pts)
-        if not rows:
-            return np.zeros((0, self.nv)), np.zeros((0, 3))
-        return np.vstack(rows), np.vstack(points)
+            r = self.plant.soles[s].points @ fr.R[s].T
+            rows.append(fr.J[s, :3] - skew(r) @ fr.J[s, 3:])
+            points.append(fr.centre[s] + r)
+        if len(stance) == 1:
+            return rows[0].reshape(-1, self.nv), points[0]
+        return np.concatenate(rows).reshape(-1, self.nv), np.concatenate(points)
+
+    def _layout(self, stance: tuple[int, ...]) -> QpLayout:
+        """The QP structure of ``stance`` (rebuilt when the assumed friction changes)."""
+        lay = self._layouts.get(stance)
+        if lay is None or lay.mu != self.gains.mu:
+            lay = self._layouts[stance] = QpLayout.build(stance, self.n_points, self.nv, self.nu, self.gains.mu)
+        return lay
 
     # ------------------------------------------------------------------ tasks
     def _centroidal_tasks(
-        self, P: np.ndarray, qv: np.ndarray, data: mujoco.MjData, ref: TickReference, points: np.ndarray
+        self, H: np.ndarray, f: np.ndarray, vw: _Views, ref: TickReference, points: np.ndarray, gram: np.ndarray
     ) -> None:
-        """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact forces."""
+        """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact forces, plus
+        their regularisation: the (3k, 3k) force block of the cost."""
         g = self.gains
-        k = len(points)
-        # ``data`` is the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
-        com = data.subtree_com[0].copy()
-        com_vel = data.subtree_linvel[0].copy()
-        L = data.subtree_angmom[0].copy()
-        fcols = slice(self.nv, self.nv + 3 * k)
-        sumF = np.tile(np.eye(3), (1, k)) / self.mass
-        acc_des = (
-            ref.com_acc
-            + np.array(g.com_kp) * (ref.com_pos - com)
-            + np.array(g.com_kd) * (ref.com_vel - com_vel)
-            + np.array([0, 0, self.gravity])
-        )
-        add_task(P, qv, sumF, acc_des, g.w_com, fcols)
-        moment = np.hstack([skew(pt - com) for pt in points]) / (self.mass * 0.1)
-        add_task(P, qv, moment, -g.angmom_kd * L / (self.mass * 0.1), g.w_angmom, fcols)
-        add_task(P, qv, np.eye(3 * k), np.zeros(3 * k), g.w_reg_f, fcols)
+        k, nv = len(points), self.nv
+        # the views are of the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
+        acc_des = ref.com_acc + self._com_kp * (ref.com_pos - vw.com) + self._com_kd * (ref.com_vel - vw.com_vel)
+        acc_des[2] += self.gravity
+        scale = self.mass * 0.1
+        moment = skew(points - vw.com).transpose(1, 0, 2).reshape(3, 3 * k)  # [[r_1]x ... [r_k]x]
+        Hf = (g.w_com / self.mass**2) * gram + (g.w_angmom / scale**2) * (moment.T @ moment)
+        Hf.flat[:: 3 * k + 1] += g.w_reg_f
+        H[nv:, nv:] = Hf
+        f[nv:] = moment.T @ ((g.w_angmom * g.angmom_kd / scale**2) * vw.L)
+        f[nv:].reshape(k, 3)[:] -= (g.w_com / self.mass) * acc_des
 
-    def _motion_tasks(
-        self, P: np.ndarray, qv: np.ndarray, data: mujoco.MjData, ref: TickReference, feet: _Feet
-    ) -> None:
-        """Swing-foot pose, torso and pelvis orientation, posture and regularisation on qdd."""
-        g = self.gains
-        p = self.plant
-        nv = self.nv
-        qd = data.qvel
-        qcols = slice(0, nv)
+    def _motion_rows(self, vw: _Views, ref: TickReference, fr: _Frames) -> np.ndarray:
+        """Swing-foot pose and torso and pelvis orientation: the PD targets of the four frames,
+        ``a = K_p e + K_d (v_ref - J qd) - Jdot qd + a_ff`` (4, 6), and the indices of the rows in use
+        among the 24 frame rows (position and orientation of the swing soles, orientation of the torso
+        and the pelvis)."""
+        stance = (bool(ref.stance[0]), bool(ref.stance[1]))
+        rows = self._task_rows.get(stance)
+        if rows is None:
+            swing = [r for s in (0, 1) if not stance[s] for r in range(6 * s, 6 * s + 6)]
+            rows = self._task_rows[stance] = np.array([*swing, 15, 16, 17, 21, 22, 23])
+        err, vref, ff = self._err, self._vref, self._ff
+        err[:2, :3] = ref.foot_pos - fr.centre
+        vref[:2, :3] = ref.foot_vel
+        vref[:2, 5] = ref.yaw_rate
+        vref[2:, 5] = ref.torso_yaw_rate
+        ff[:2, :3] = ref.foot_acc
         for s in (0, 1):
-            if ref.stance[s]:
-                continue
-            e = ref.foot_pos[s] - feet.centre[s]
-            ed = ref.foot_vel[s] - feet.J[s][:3] @ qd
-            a = ref.foot_acc[s] + g.swing_kp * e + g.swing_kd * ed - feet.Jd[s][:3]
-            add_task(P, qv, feet.J[s][:3], a, g.w_swing, qcols)
-            er = rotation_error(rot_z(ref.yaw[s]), feet.R[s])
-            w_ref = np.array([0.0, 0.0, ref.yaw_rate[s]])
-            ar = g.swing_kp * er + g.swing_kd * (w_ref - feet.J[s][3:] @ qd) - feet.Jd[s][3:]
-            add_task(P, qv, feet.J[s][3:], ar, g.w_swing_rot, qcols)
-        R_yaw = rot_z(ref.torso_yaw)
-        w_torso = np.array([0.0, 0.0, ref.torso_yaw_rate])
-        for body, w in ((p.torso_body, g.w_torso), (p.pelvis_body, g.w_pelvis)):
-            J, Jd = self._frame_jac(data, body, data.xpos[body])
-            er = rotation_error(R_yaw, data.xmat[body].reshape(3, 3))
-            a = g.torso_kp * er + g.torso_kd * (w_torso - J[3:] @ qd) - Jd[3:]
-            add_task(P, qv, J[3:], a, w, qcols)
-        qj, vj = data.qpos[7:], qd[6:]
-        a_post = g.posture_kp * (self.q_posture - qj) - g.posture_kd * vj
-        wp = np.where(self.arm, g.w_arm_posture, g.w_posture)
-        P[6:nv, 6:nv] += np.diag(wp)
-        qv[6:nv] -= wp * a_post
-        P[:nv, :nv] += g.w_reg_qdd * np.eye(nv)
+            if not stance[s]:
+                quat = np.empty(4)
+                mujoco.mju_mat2Quat(quat, fr.R[s].ravel())
+                err[s, 3:] = yaw_error(ref.yaw[s], quat)
+        err[2, 3:] = yaw_error(ref.torso_yaw, vw.torso_quat)
+        err[3, 3:] = yaw_error(ref.torso_yaw, vw.pelvis_quat)
+        self._task_a = self._kp * err + self._kd * (vref - fr.v) - fr.Jd + ff
+        return rows
+
+    def _motion_tasks(self, H: np.ndarray, f: np.ndarray, vw: _Views, fr: _Frames, rows: np.ndarray) -> None:
+        """The (nv, nv) qdd block of the cost: the stacked task rows, posture (joint PD toward the
+        standing pose) and regularisation on the diagonal."""
+        g = self.gains
+        nv = self.nv
+        J, w = fr.J.reshape(24, nv)[rows], self._w_task.ravel()[rows]
+        Jw = J.T * w
+        Hq = Jw @ J
+        Hq.flat[:: nv + 1] += self._w_diag
+        H[:nv, :nv] = Hq
+        a_post = g.posture_kp * (self.q_posture - vw.qpos[7:]) - g.posture_kd * vw.qvel[6:]
+        f[:nv] = Jw @ self._task_a.ravel()[rows]
+        f[6:nv] += self._w_posture * a_post
+        f[:nv] *= -1.0
 
     # ------------------------------------------------------------------ constraints
-    def _equalities(
-        self, data: mujoco.MjData, M: np.ndarray, h: np.ndarray, Jc: np.ndarray, stance: list[int], feet: _Feet
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """Floating-base rows of the equations of motion and non-sliding stance feet: (A, b)."""
-        k3 = Jc.shape[0]
-        qd = data.qvel
-        A_eq = [np.hstack([M[:6], -Jc.T[:6]])]
-        b_eq = [-h[:6]]
-        for s in stance:
-            v = feet.J[s] @ qd
-            A_eq.append(np.hstack([feet.J[s], np.zeros((6, k3))]))
-            b_eq.append(-feet.Jd[s] - self.gains.stance_kv * v)
-        return np.vstack(A_eq), np.concatenate(b_eq)
+    def _constraints(self, lay: QpLayout, h: np.ndarray, Jc: np.ndarray, fr: _Frames, ref: TickReference) -> None:
+        """Refill the changing rows of ``lay``: floating-base dynamics and torque limits (one block,
+        ``[M, -Jc^T]`` at the base and actuated dofs), non-sliding feet, force caps
+        (:mod:`gaitshift.control.qp_layout`)."""
+        nv, A = self.nv, lay.A
+        r = slice(0, lay.rows["torque"].stop)
+        A[r, :nv] = self.M[self._dofs]
+        np.negative(Jc.T[self._dofs], out=A[r, nv:])
+        h_rows = h[self._dofs]
+        np.subtract(self._row_lim, h_rows, out=lay.up["dynamics+torque"])
+        np.subtract(-self._row_lim, h_rows, out=lay.lo["dynamics+torque"])
+        if lay.stance:
+            lay.up["cap"][:] = ref.fz_max[lay.feet]
+            A[lay.rows["feet"], :nv] = fr.J[lay.feet].reshape(-1, nv)
+            b = (-fr.Jd[lay.feet] - self.gains.stance_kv * fr.v[lay.feet]).ravel()
+            lay.up["feet"][:] = b
+            lay.lo["feet"][:] = b
 
-    def _inequalities(
-        self, M: np.ndarray, h: np.ndarray, Jc: np.ndarray, stance: list[int], ref: TickReference
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Torque limits, friction pyramids and per-foot normal-force caps: (G, h, lb, ub) with G x <= h."""
-        g = self.gains
-        p = self.plant
-        nv = self.nv
-        k = Jc.shape[0] // 3
-        n = nv + 3 * k
-        lim = p.torque_limit * g.torque_margin
-        Sa = p.actuated_dofs
-        T = np.hstack([M[Sa], -Jc.T[Sa]])
-        G = [T, -T]
-        hh = [lim - h[Sa], lim + h[Sa]]
-        lb = np.full(n, -np.inf)
-        ub = np.full(n, np.inf)
-        if k:
-            lb[nv + 2 :: 3] = 0.0
-            cap = np.zeros((len(stance), n))
-            start = nv
-            for j, s in enumerate(stance):
-                cap[j, start + 2 : start + 3 * self.n_points[s] : 3] = 1.0
-                start += 3 * self.n_points[s]
-            G += [friction_rows(n, k, nv, g.mu), cap]
-            hh += [np.zeros(4 * k), ref.fz_max[stance]]
-        return np.vstack(G), np.concatenate(hh), lb, ub
-
-    def _knee_bounds(
-        self, data: mujoco.MjData, ref: TickReference, lb: np.ndarray, ub: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def _knee_bounds(self, vw: _Views, ref: TickReference, lay: QpLayout) -> None:
         """Bounds on the swinging knees' accelerations that keep them ``limit_margin`` inside their
         range over ``limit_horizon`` s: ``q + v T + a T^2 / 2`` within the range. Without them the
         trailing knee of a fast running swing is driven straight into its limit just after lift-off
         (docs/simulation.md, "Top speed")."""
         g = self.gains
         T = g.limit_horizon
-        qk, vk = data.qpos[self.knee_qadr], data.qvel[self.knee_dofs]
-        lo = 2.0 * (self.knee_range[:, 0] + g.limit_margin - qk - vk * T) / T**2
-        hi = 2.0 * (self.knee_range[:, 1] - g.limit_margin - qk - vk * T) / T**2
-        swing = ~np.asarray(ref.stance, bool)
-        lb, ub = lb.copy(), ub.copy()
-        lb[self.knee_dofs[swing]] = np.minimum(lo, hi)[swing]
-        ub[self.knee_dofs[swing]] = np.maximum(lo, hi)[swing]
-        return lb, ub
+        for s in (0, 1):
+            if ref.stance[s]:
+                continue
+            drift = float(vw.qpos[self.knee_qadr[s]]) + float(vw.qvel[self.knee_dofs[s]]) * T
+            lo = 2.0 * (float(self.knee_range[s, 0]) + g.limit_margin - drift) / T**2
+            hi = 2.0 * (float(self.knee_range[s, 1]) - g.limit_margin - drift) / T**2
+            lay.lo["x"][self.knee_dofs[s]], lay.up["x"][self.knee_dofs[s]] = min(lo, hi), max(lo, hi)
 
-    def _solve(self, cost: tuple[np.ndarray, np.ndarray], ineq: Any, eq: tuple[np.ndarray, np.ndarray]) -> Any:
+    def _free_knees(self, lay: QpLayout) -> None:
+        """No bounds on the knee accelerations."""
+        for dof in self.knee_dofs:
+            lay.lo["x"][dof], lay.up["x"][dof] = -INF, INF
+
+    def _solve(self, H: np.ndarray, f: np.ndarray, lay: QpLayout) -> np.ndarray | None:
         """The QP solution x, or None (:func:`gaitshift.control.qp_terms.solve_qp`)."""
-        x, self.last_solver = solve_qp(cost, ineq, eq)
-        return x
+        x, self.last_solver = solve_qp(H, f, lay.A, lay.bu, lay.bl, lay.sense)
+        return x  # type: ignore[no-any-return]
 
     # ------------------------------------------------------------------ the QP
     def compute(self, data: mujoco.MjData, ref: TickReference) -> tuple[np.ndarray, TickInfo]:
@@ -257,42 +289,43 @@ class WholeBodyController:
         (``mj_forward`` or ``mj_step1``) and ``mj_subtreeVel``."""
         p = self.plant
         nv = self.nv
+        vw = self._view(data)
         mujoco.mj_fullM(p.model, data, self.M)
-        M = self.M
-        h = data.qfrc_bias - data.qfrc_passive
-        stance = [s for s in (0, 1) if ref.stance[s]]
-        n = nv + 3 * sum(self.n_points[s] for s in stance)
-        P = np.zeros((n, n))
-        qv = np.zeros(n)
-        feet = self._feet(data)
-        Jc, points = self._contact_jacobian(stance, feet)
+        h = vw.bias - vw.passive
+        stance = tuple(s for s in (0, 1) if ref.stance[s])
+        lay = self._layout(stance)
+        H = np.zeros((lay.n, lay.n))
+        f = np.zeros(lay.n)
+        self._gain_arrays()
+        fr = self._frames(data, vw)
+        Jc, points = self._contact_jacobian(stance, fr)
         if len(points):
-            self._centroidal_tasks(P, qv, data, ref, points)
-        self._motion_tasks(P, qv, data, ref, feet)
-        ineq = self._inequalities(M, h, Jc, stance, ref)
-        eq = self._equalities(data, M, h, Jc, stance, feet)
+            self._centroidal_tasks(H, f, vw, ref, points, lay.gram_f)
+        self._motion_tasks(H, f, vw, fr, self._motion_rows(vw, ref, fr))
+        self._constraints(lay, h, Jc, fr, ref)
         x = None
         if self.gains.limit_horizon > 0:  # with the knee-limit bounds, then without if infeasible
-            G, hh, lb, ub = ineq
-            x = self._solve((P, qv), (G, hh, *self._knee_bounds(data, ref, lb, ub)), eq)
+            self._knee_bounds(vw, ref, lay)
+            x = self._solve(H, f, lay)
+            self._free_knees(lay)
         if x is None:
-            x = self._solve((P, qv), ineq, eq)
+            x = self._solve(H, f, lay)
         info = TickInfo(ok=x is not None, solver=self.last_solver)
         Sa = p.actuated_dofs
         if x is None:
             # infeasible: drop the stance and torque constraints' coupling, keep posture (safe fallback)
             lim = p.torque_limit * self.gains.torque_margin
-            qj, vj = data.qpos[7:], data.qvel[6:]
+            qj, vj = vw.qpos[7:], vw.qvel[6:]
             tau = np.clip(self.gains.posture_kp * 0.5 * (self.q_posture - qj) - 2.0 * vj + h[Sa], -lim, lim)
             return tau, info
-        qdd, f = x[:nv], x[nv:]
-        tau = M[Sa] @ qdd + h[Sa] - Jc.T[Sa] @ f
+        qdd, fc = x[:nv], x[nv:]
+        tau = lay.A[lay.rows["torque"]] @ x + h[Sa]  # M_a qdd + h_a - J_a^T f
         forces = np.zeros((2, 3))
         start = 0
         for s in stance:
             k = self.n_points[s]
-            forces[s] = f[3 * start : 3 * (start + k)].reshape(k, 3).sum(axis=0)
+            forces[s] = fc[3 * start : 3 * (start + k)].reshape(k, 3).sum(axis=0)
             start += k
         info.forces = forces
-        info.qdd, info.contact_forces, info.contact_jacobian = qdd, f, Jc
-        return np.clip(tau, -p.torque_limit, p.torque_limit), info
+        info.qdd, info.contact_forces, info.contact_jacobian = qdd, fc, Jc
+        return np.minimum(np.maximum(tau, -p.torque_limit), p.torque_limit), info
