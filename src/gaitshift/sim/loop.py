@@ -40,6 +40,7 @@ from gaitshift.control.reference import SwingSettings, tick_reference
 from gaitshift.control.schedule import FootScheduler, ScheduleSettings
 from gaitshift.control.wbc import WholeBodyController
 from gaitshift.control.wbc_data import Gains, gains_for
+from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig
 from gaitshift.sim.contacts import ContactSensor, fall_reason
 from gaitshift.sim.estimation_metrics import sensing_metrics
@@ -272,7 +273,8 @@ def simulate(
     sense_hooks: Sequence[TickHook] = (),
 ) -> SimResult:
     """Run ``traj`` closed-loop on ``robot`` (built-in name, YAML or config; ignored when ``plant`` is
-    given) and return the logged result (see module docstring).
+    given; the plant gets the plan's terrain, ``traj.meta["terrain"]``) and return the logged result
+    (see module docstring).
 
     With a ``replanner`` (a :class:`~gaitshift.control.drivers.PlanDriver`: online VHIP and locomotion
     plans), the plan is regenerated from the measured CoM at every
@@ -287,7 +289,8 @@ def simulate(
         traj = replanner.trajectory
         if not replanner.step_feedback:
             opts = replace(opts, capture=replace(opts.capture, gain=0.0, anchor=False))
-    plant = with_floor_friction(plant or build_plant(opts.control_period, robot), opts.friction)
+    terrain = Terrain.from_list(traj.meta.get("terrain"))  # the plan's ground, built into the scene
+    plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain), opts.friction)
     run = _Run(traj, opts, plant, replanner, hooks)
     run.sense_hooks = tuple(sense_hooks)
     try:
