@@ -40,7 +40,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from gaitshift.common.rotations import rot_z
+from gaitshift.common.rotations import rot_y, rot_z
 from gaitshift.control.plant_view import PlantView
 from gaitshift.control.qp_terms import add_task, friction_rows, rotation_error, skew, solve_qp
 from gaitshift.control.wbc_data import Gains, TickInfo, TickReference
@@ -168,7 +168,7 @@ class WholeBodyController:
             ed = ref.foot_vel[s] - feet.J[s][:3] @ qd
             a = ref.foot_acc[s] + g.swing_kp * e + g.swing_kd * ed - feet.Jd[s][:3]
             add_task(P, qv, feet.J[s][:3], a, g.w_swing, qcols)
-            er = rotation_error(rot_z(ref.yaw[s]), feet.R[s])
+            er = rotation_error(rot_z(ref.yaw[s]) @ rot_y(-ref.foot_pitch[s]), feet.R[s])  # sole on terrain
             w_ref = np.array([0.0, 0.0, ref.yaw_rate[s]])
             ar = g.swing_kp * er + g.swing_kd * (w_ref - feet.J[s][3:] @ qd) - feet.Jd[s][3:]
             add_task(P, qv, feet.J[s][3:], ar, g.w_swing_rot, qcols)

@@ -9,7 +9,9 @@ Over terrain (:class:`EdgeClearance`) the horizontal blend runs in a window ``[a
 ``s((u - a) / (b - a))``, while the height keeps the whole swing: a foot climbing a stair rises before
 it moves forward, one stepping down moves before it descends. The window is the widest (smallest
 ``a + 1 - b`` on a grid of :data:`WINDOW_STEP`) that keeps the sole ``margin`` above every terrain
-break it passes over (a stair edge); on flat ground it is [0, 1], the plain swing.
+break it passes over (a stair edge) while the break is within ``margin`` of the sole's toe or heel
+(a foot that lags its reference by a few cm must not catch the edge with its heel as it sets down);
+on flat ground it is [0, 1], the plain swing.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ WINDOW_STEP = 0.025
 #: largest delay or advance of the horizontal blend, fraction of the swing
 WINDOW_MAX = 0.45
 #: samples of a swing checked against the terrain breaks
-WINDOW_SAMPLES = 201
+WINDOW_SAMPLES = 1001
 
 
 def min_jerk(u: FloatArray) -> FloatArray:
@@ -86,7 +88,7 @@ def swing_path(
 @dataclass(frozen=True)
 class EdgeClearance:
     """Swings over ``terrain``: soles ``sole_length`` m long (along x) kept ``margin`` m above the
-    breaks they pass over (module docstring)."""
+    breaks they pass over, and ``margin`` m beyond toe and heel (module docstring)."""
 
     terrain: Terrain
     sole_length: float
@@ -99,7 +101,7 @@ class EdgeClearance:
         Raises:
             ValueError: no window on the grid clears the breaks (a higher swing is needed).
         """
-        half = 0.5 * self.sole_length
+        half = 0.5 * self.sole_length + self.margin  # the sole, lengthened by the margin at toe and heel
         lo, hi = sorted((float(start[0]), float(end[0])))
         b = self.terrain.breaks()
         b = b[(b > lo - half) & (b < hi + half)]

@@ -108,6 +108,15 @@ class Terrain:
         under = b[(b > x - half) & (b < x + half)]
         return float(under[0]) if len(under) else None
 
+    def clamp_sole(self, x: float, target: float, half: float) -> float:
+        """``target`` (m) clipped so that a sole of half length ``half`` (m) stays between the two breaks
+        around ``x`` (the piece of ground under the planned foothold ``x``); ``target`` when the gap is
+        shorter than the sole."""
+        b = self.breaks()
+        lo = float(b[b <= x].max()) + half if np.any(b <= x) else -math.inf
+        hi = float(b[b > x].min()) - half if np.any(b > x) else math.inf
+        return target if lo > hi else min(max(target, lo), hi)
+
     def as_list(self) -> list[list[float]]:
         """``[[x0, x1, z0, z1], ...]`` (the trajectory's ``meta["terrain"]``)."""
         return [[q.x0, q.x1, q.z0, q.z1] for q in self.pieces]

@@ -182,6 +182,7 @@ def plan_scenario(sc: TvlipScenario) -> Trajectory:
         "plan_time_s": elapsed,
         "step_gait": list(seq.step_gait),
         "terrain": terrain.as_list(),
+        "edge_clearance": sc.edge_clearance,
         "scenario": json.loads(sc.model_dump_json()),
     }
     extras: dict[str, np.ndarray] = {
