@@ -13,7 +13,7 @@ from gaitshift.models.terrain import Terrain
 from gaitshift.scenario import load_scenario
 from gaitshift.scenario.terrain import terrain_of
 from gaitshift.sim.contacts import ContactSensor
-from gaitshift.sim.loop import simulate
+from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.plant import build_plant
 
 
@@ -67,3 +67,15 @@ def _sole_pitch(result, mask):
         R = plant.sole_frame(d, int(s))[1]
         out.append(np.arctan2(R[2, 0], np.hypot(R[0, 0], R[1, 0])))
     return np.array(out)
+
+
+def test_g1_runs_over_the_5cm_step_on_the_truth_with_its_soles_above_the_edge():
+    """Oracle state: on the estimated state the run falls (docs/simulation.md, "Terrain")."""
+    sc = load_scenario("g1-run-step")
+    result = simulate(plan(sc), SimOptions(state="oracle"))
+    assert not result.fell, result.fall_reason
+    assert result.metrics["steps_completed"] == result.metrics["steps_planned"]
+    a = result.arrays
+    (edge,) = terrain_of(sc.terrain).breaks()[:1]
+    over = ~a["contact"] & (np.abs(a["foot_pos"][..., 0] - edge) < sc.foot.size[0] / 2)
+    assert over.any() and np.min(a["foot_pos"][..., 2][over]) > 0.05 + 0.01  # 1 cm above the 5 cm step

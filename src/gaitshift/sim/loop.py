@@ -2,11 +2,11 @@
 
 Every control tick (= physics step, 2 ms by default):
 
-1. read the truth for the metrics (``mj_forward`` + ``mj_subtreeVel``, foot contacts of
-   :mod:`gaitshift.sim.contacts`); stop at a fall (pelvis below 60 % of its initial height, or any
-   non-sole geom touching the floor); sense (:mod:`gaitshift.sim.sensing`): sensors, state estimator
-   (or the truth with ``state="oracle"``), latency prediction, the controller's OWN ``MjData``: steps
-   2-5 read only that view (the truth barrier);
+1. read the truth for the metrics (``mj_forward`` + ``mj_subtreeVel``, foot contacts of :mod:`gaitshift.sim.contacts`);
+   stop at a fall (pelvis below 60 % of its initial height, both above the plan's terrain, or any non-sole geom
+   touching the ground); sense (:mod:`gaitshift.sim.sensing`): sensors, state estimator (or the truth with
+   ``state="oracle"``), latency prediction, the controller's OWN ``MjData``: steps 2-5 read only that view (the truth
+   barrier);
 2. online VHIP plans: re-plan at each planning instant from the measured CoM
    (:mod:`gaitshift.control.online_driver`);
 3. update the foot state machine (contact schedule of the plan, with early/late touchdown from the
@@ -132,7 +132,8 @@ class _Run:
         q0 = initial_qpos(plant, traj.com_pos[0], traj.foot_pos[0], self.plan.yaw[0])
         self.d.qpos[:] = q0
         mujoco.mj_forward(plant.model, self.d)
-        self.pelvis0 = float(q0[2])
+        self.ground = Terrain.from_list(traj.meta.get("terrain"))  # pelvis heights are above the ground
+        self.pelvis0 = float(q0[2] - self.ground.height(q0[0]))
         gains = opts.gains if opts.gains is not None else gains_for(plant.robot)
         self.ctrl = WholeBodyController(plant, q0, gains)
         self.sched = FootScheduler(traj, self.plan, opts.schedule, plant.mass * 9.81)
@@ -211,7 +212,7 @@ class _Run:
             mujoco.mj_forward(m, d)
             mujoco.mj_subtreeVel(m, d)
             contacts = self.sensor.read(d)  # truth: the metrics and the fall test
-            why = fall_reason(contacts, float(d.qpos[2]), self.pelvis0)
+            why = fall_reason(contacts, float(d.qpos[2] - self.ground.height(d.qpos[0])), self.pelvis0)
             if why is not None:
                 fell, fall_time, reason, n_done = True, tp, why, k
                 break
