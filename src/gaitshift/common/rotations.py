@@ -7,7 +7,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["mid_yaw", "rot2", "rot_z", "wrap_angle"]
+__all__ = ["mid_yaw", "rot2", "rot_y", "rot_z", "wrap_angle"]
 
 
 def rot_z(yaw: float) -> np.ndarray:
@@ -15,6 +15,13 @@ def rot_z(yaw: float) -> np.ndarray:
     ``[[cos, -sin, 0], [sin, cos, 0], [0, 0, 1]]`` (a flat sole or an upright torso with heading ``yaw``)."""
     c, s = np.cos(yaw), np.sin(yaw)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def rot_y(angle: float) -> np.ndarray:
+    """Rotation about the y axis by ``angle`` (rad): ``[[cos, 0, sin], [0, 1, 0], [-sin, 0, cos]]``
+    (a positive angle turns +x toward -z: a sole on a ramp rising along +x by ``p`` is ``rot_y(-p)``)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def rot2(yaw: float) -> npt.NDArray[np.float64]:

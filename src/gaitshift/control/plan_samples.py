@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gaitshift.gait.swing import foot_yaws
+from gaitshift.models.terrain import FLAT, Terrain
 from gaitshift.trajectory.contract import Trajectory
 
 
@@ -21,6 +23,12 @@ class PlanSamples:
         yaw_rate: (N, 2) rad/s and heading_rate: (N,) rad/s, their central differences (of the
             unwrapped angles): the velocity references of the orientation tasks, so that a turn at a
             constant rate is tracked without the PD's steady lag ``kd/kp * rate``.
+        foot_pitch: (N, 2) rad, inclination of each sole, positive toe up: in contact the slope of the
+            plan's terrain (``meta["terrain"]``) under its foothold, in a swing the minimum-jerk blend
+            from the lift-off foothold's to the touchdown foothold's (as the yaws,
+            :func:`gaitshift.gait.swing.foot_yaws`); zero on flat ground.
+        terrain: the plan's terrain; tread_half: half the sole length plus the plan's edge clearance,
+            m: how far a corrected touchdown stays from the edges of its tread (control/reference.py).
         lift, land: per foot (left, right), the plan times (s) of its lift-offs and touchdowns
             (first sample after the contact flag changes), increasing.
     """
@@ -33,6 +41,9 @@ class PlanSamples:
     heading_rate: np.ndarray
     lift: tuple[np.ndarray, np.ndarray]
     land: tuple[np.ndarray, np.ndarray]
+    foot_pitch: np.ndarray
+    terrain: Terrain = FLAT
+    tread_half: float = 0.0
 
     @classmethod
     def from_trajectory(cls, traj: Trajectory) -> PlanSamples:
@@ -47,7 +58,17 @@ class PlanSamples:
         land = (t[1:][~c[:-1, 0] & c[1:, 0]], t[1:][~c[:-1, 1] & c[1:, 1]])
         yaw_rate = np.gradient(np.unwrap(traj.foot_yaw, axis=0), dt, axis=0) if len(t) > 1 else np.zeros((len(t), 2))
         heading_rate = np.gradient(np.unwrap(traj.heading), dt) if len(t) > 1 else np.zeros(len(t))
+        terrain = Terrain.from_list(traj.meta.get("terrain"))
+        pitch = np.zeros((len(t), 2))
+        if not terrain.flat:
+            fs = traj.footsteps.copy()
+            fs[:, 3] = np.arctan(terrain.slope(fs[:, 0]))  # each foothold's pitch in the yaw column
+            pitch = foot_yaws(c.astype(bool), fp, fs, traj.footstep_side)
+        half = 0.5 * float(traj.meta.get("foot_size", [0.0])[0]) + float(traj.meta.get("edge_clearance", 0.0))
         return cls(
+            terrain=terrain,
+            tread_half=half,
+            foot_pitch=pitch,
             foot_vel=fv,
             foot_acc=fa,
             yaw=traj.foot_yaw,

@@ -34,10 +34,13 @@ def rotation_error(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
     return e
 
 
-def yaw_error(yaw: float, quat: np.ndarray) -> np.ndarray:
+def yaw_error(yaw: float, quat: np.ndarray, pitch: float = 0.0) -> np.ndarray:
     """:func:`rotation_error` of the orientation of unit quaternion ``quat`` (w, x, y, z) toward
-    ``rot_z(yaw)``, computed on quaternions: the rotation vector of ``q_yaw (x) quat^-1``, rad, (3,)."""
+    ``rot_z(yaw) @ rot_y(-pitch)`` (a sole pitched with a ramp rising by ``pitch`` along its heading),
+    computed on quaternions: the rotation vector of ``q_ref (x) quat^-1``, rad, (3,)."""
     q_ref = np.array([math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw)])
+    if pitch != 0.0:
+        mujoco.mju_mulQuat(q_ref, q_ref, np.array([math.cos(0.5 * pitch), 0.0, -math.sin(0.5 * pitch), 0.0]))
     q_inv = np.empty(4)
     mujoco.mju_negQuat(q_inv, quat)
     mujoco.mju_mulQuat(q_ref, q_ref, q_inv)

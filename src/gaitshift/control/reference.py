@@ -5,15 +5,17 @@
 * Stance feet: held where they stand (the reference is unused by the QP's stance constraints).
 * Swinging feet: the plan's sole path, translated by the plan shift, plus the foot's own capture-point
   correction blended in with the minimum-jerk profile s(u) of the swing progress u
-  (:func:`gaitshift.gait.swing.min_jerk`);
+  (:func:`gaitshift.gait.swing.min_jerk`); on terrain the corrected touchdown is clipped to the planned
+  foothold's tread, the sole ``tread_half`` from its edges (a step adjusted onto a stair edge tips the foot),
+  and the clipped correction is written back to the step feedback (the plan shift takes it at touchdown);
   a swing that spans a flight phase (running) gets an extra lift :func:`swing_lift` that rises fast
   after lift-off and sets down slowly, its peak ``h = clip(lift_per_speed |v|, flight_clearance,
   max_lift)`` growing with the plan's mean CoM speed ``|v|`` over the swing: at speed the hip runs
   away from the trailing foot, and a foot held low drives the knee straight into its limit
   (docs/simulation.md, "Top speed");
   a late foot (planned swing over, no contact yet) keeps descending at ``late_descent_speed``.
-* Foot yaws and the torso heading from the plan (``foot_yaw``, ``heading``); normal-force caps from the
-  scheduler.
+* Foot yaws, sole pitches on terrain and the torso heading from the plan (``foot_yaw``, ``heading``,
+  :attr:`PlanSamples.foot_pitch`); normal-force caps from the scheduler.
 """
 
 from __future__ import annotations
@@ -70,6 +72,11 @@ def tick_reference(
             continue
         dur = sched.swing_duration(s)
         u = sched.swing_progress(t, s)
+        if not plan.terrain.flat:  # the corrected touchdown stays on the planned foothold's tread
+            land_x = float(traj.foot_pos[min(round(sched.swing_end[s] / traj.dt), len(traj) - 1), s, 0])
+            want = land_x + shift.shift[0] + shift.offset[s, 0]
+            # written back: at touchdown the plan shift takes the correction the foot was given
+            shift.offset[s, 0] += plan.terrain.clamp_sole(land_x, want, plan.tread_half) - want
         foot_ref[s] += shift.shift + shift.offset[s] * min_jerk(np.array(u))
         if sched.swing_flight[s] and 0.0 <= u <= 1.0:
             # running swing: fast rise after lift-off, set down with a vertical speed; scaled with speed
@@ -98,4 +105,5 @@ def tick_reference(
         torso_yaw=float(plan.heading[i]),
         yaw_rate=plan.yaw_rate[i],
         torso_yaw_rate=float(plan.heading_rate[i]),
+        foot_pitch=plan.foot_pitch[i],
     )

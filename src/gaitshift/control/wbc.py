@@ -218,7 +218,7 @@ class WholeBodyController:
             if not stance[s]:
                 quat = np.empty(4)
                 mujoco.mju_mat2Quat(quat, fr.R[s].ravel())
-                err[s, 3:] = yaw_error(ref.yaw[s], quat)
+                err[s, 3:] = yaw_error(ref.yaw[s], quat, ref.foot_pitch[s])  # sole on terrain
         err[2, 3:] = yaw_error(ref.torso_yaw, vw.torso_quat)
         err[3, 3:] = yaw_error(ref.torso_yaw, vw.pelvis_quat)
         self._task_a = self._kp * err + self._kd * (vref - fr.v) - fr.Jd + ff

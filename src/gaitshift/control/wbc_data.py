@@ -78,6 +78,8 @@ class TickReference:
     the total normal force, N (force ramp). ``foot_*``: sole-centre references (2, 3); used for feet
     not in stance. ``yaw``: (2,) foot yaws; ``torso_yaw``: heading of pelvis and torso; ``yaw_rate`` (2,)
     and ``torso_yaw_rate``: their rates, rad/s (velocity references of the orientation tasks).
+    ``foot_pitch``: (2,) sole inclination on terrain, rad, positive toe up (0 on flat ground): the swing
+    sole's reference is ``rot_z(yaw) rot_y(-foot_pitch)``.
     """
 
     com_pos: np.ndarray
@@ -92,6 +94,7 @@ class TickReference:
     torso_yaw: float = 0.0
     yaw_rate: np.ndarray = field(default_factory=lambda: np.zeros(2))
     torso_yaw_rate: float = 0.0
+    foot_pitch: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @classmethod
     def still(

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gaitshift.models.terrain import Terrain
 from gaitshift.trajectory.contract import LEFT, RIGHT
 
 
@@ -90,3 +91,22 @@ def footsteps_from_profile(
         side = 1 - side
     feet.append(closing_footstep(last, step_width))
     return feet
+
+
+def on_terrain(feet: list[Footstep], terrain: Terrain, sole: tuple[float, float]) -> list[Footstep]:
+    """The footholds set on ``terrain``: each z becomes the ground height under the sole centre plus
+    the foothold's own z (m). ``sole`` is (length, width), m.
+
+    Raises:
+        ValueError: "i: ..." for the first foothold ``i`` (0, 1: the initial feet) whose sole lies
+            across a break of the terrain (a stair edge, the foot of a ramp).
+    """
+    if terrain.flat:
+        return feet
+    out = []
+    for i, f in enumerate(feet):
+        edge = terrain.sole_fits(f.x, f.yaw, *sole)
+        if edge is not None:
+            raise ValueError(f"{i}: the sole at x = {f.x:.3f} m lies across the terrain break at x = {edge:.3f} m")
+        out.append(Footstep(f.x, f.y, f.z + float(terrain.height(f.x)), f.yaw, f.side))
+    return out

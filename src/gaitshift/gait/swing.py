@@ -4,21 +4,38 @@ Horizontal position and yaw follow a quintic ("minimum-jerk") blend ``s(u) = 10u
 u = (t - t0)/(t1 - t0) in [0, 1], with zero velocity and acceleration at both ends. Height follows the
 sextic polynomial of paper 003 (§3.3) with seven conditions: z(0) = z0, z(1) = z1, zero velocity and
 acceleration at both ends, and z(1/2) = max(z0, z1) + clearance (the apex).
+
+Over terrain (:class:`EdgeClearance`) the horizontal blend runs in a window ``[a, b]`` of the swing,
+``s((u - a) / (b - a))``, while the height keeps the whole swing: a foot climbing a stair rises before
+it moves forward, one stepping down moves before it descends. The window is the widest (smallest
+``a + 1 - b`` on a grid of :data:`WINDOW_STEP`) that keeps the sole ``margin`` above every terrain
+break it passes over (a stair edge) while the break is within ``margin`` of the sole's toe or heel
+(a foot that lags its reference by a few cm must not catch the edge with its heel as it sets down);
+on flat ground it is [0, 1], the plain swing.
 """
 
 from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
 
 from gaitshift.models.arrays import FloatArray, FloatLike
 from gaitshift.models.sextic import SEXTIC_INVERSE
+from gaitshift.models.terrain import Terrain
 
 BoolArray = npt.NDArray[np.bool_]
 IntArray = npt.NDArray[np.int8]
+
+#: grid of the swing window's delay and advance, fraction of the swing
+WINDOW_STEP = 0.025
+#: largest delay or advance of the horizontal blend, fraction of the swing
+WINDOW_MAX = 0.45
+#: samples of a swing checked against the terrain breaks
+WINDOW_SAMPLES = 1001
 
 
 def min_jerk(u: FloatArray) -> FloatArray:
@@ -41,7 +58,9 @@ def sextic_height_coefficients(z0: FloatLike, z1: FloatLike, apex: FloatLike) ->
     return np.concatenate([z0[..., None], zeros, zeros, a36], axis=-1)
 
 
-def swing_path(start: FloatArray, end: FloatArray, clearance: float, u: FloatArray) -> FloatArray:
+def swing_path(
+    start: FloatArray, end: FloatArray, clearance: float, u: FloatArray, window: tuple[float, float] = (0.0, 1.0)
+) -> FloatArray:
     """Foot position along a swing from ``start`` to ``end`` (each (3,) or (K, 3)) at phases ``u``.
 
     Args:
@@ -49,6 +68,7 @@ def swing_path(start: FloatArray, end: FloatArray, clearance: float, u: FloatArr
         end: touchdown sole position, m, same shape rules.
         clearance: apex height above the higher of the two soles, m.
         u: normalised time in [0, 1], shape (K,).
+        window: (a, b), the part of the swing in which the foot moves horizontally (module docstring).
 
     Returns:
         Positions, shape (K, 3).
@@ -56,13 +76,55 @@ def swing_path(start: FloatArray, end: FloatArray, clearance: float, u: FloatArr
     u = np.clip(np.asarray(u, float), 0.0, 1.0)
     start = np.broadcast_to(np.asarray(start, float), (len(u), 3))
     end = np.broadcast_to(np.asarray(end, float), (len(u), 3))
-    s = min_jerk(u)[:, None]
+    s = min_jerk((u - window[0]) / (window[1] - window[0]))[:, None]
     out = start + (end - start) * s
     apex = np.maximum(start[:, 2], end[:, 2]) + clearance
     coef = sextic_height_coefficients(start[:, 2], end[:, 2], apex)
     powers = u[:, None] ** np.arange(7)
     out[:, 2] = np.sum(coef * powers, axis=1)
     return out
+
+
+@dataclass(frozen=True)
+class EdgeClearance:
+    """Swings over ``terrain``: soles ``sole_length`` m long (along x) kept ``margin`` m above the
+    breaks they pass over, and ``margin`` m beyond toe and heel (module docstring)."""
+
+    terrain: Terrain
+    sole_length: float
+    margin: float
+
+    def window(self, start: FloatArray, end: FloatArray, clearance: float) -> tuple[float, float]:
+        """(a, b) of the swing from ``start`` to ``end`` (3,) m with apex ``clearance`` m above the
+        higher sole; (0, 1) when no break lies between them.
+
+        Raises:
+            ValueError: no window on the grid clears the breaks (a higher swing is needed).
+        """
+        half = 0.5 * self.sole_length + self.margin  # the sole, lengthened by the margin at toe and heel
+        lo, hi = sorted((float(start[0]), float(end[0])))
+        b = self.terrain.breaks()
+        b = b[(b > lo - half) & (b < hi + half)]
+        if len(b) == 0:
+            return 0.0, 1.0
+        top = np.maximum(self.terrain.height(b - 1e-9), self.terrain.height(b)) + self.margin  # (nb,)
+        u = np.linspace(0.0, 1.0, WINDOW_SAMPLES)
+        z = swing_path(start, end, clearance, u)[:, 2]  # the height does not depend on the window
+        g = np.arange(0.0, WINDOW_MAX + 1e-9, WINDOW_STEP)
+        a, e = np.meshgrid(g, g, indexing="ij")  # delay, advance
+        s = min_jerk((u[None, None, :] - a[..., None]) / (1.0 - e - a)[..., None])
+        x = float(start[0]) + (float(end[0]) - float(start[0])) * s  # (na, ne, n)
+        over = np.abs(x[..., None] - b) < half  # (na, ne, n, nb): a break under the sole
+        low = over & (z[:, None] < top)
+        ok = ~low.any(axis=(2, 3))
+        if not ok.any():
+            raise ValueError(
+                f"a swing from x = {lo:.3f} to {hi:.3f} m cannot keep {self.margin} m above the edges at x = "
+                f"{np.round(b, 3).tolist()} (raise swing_height)"
+            )
+        cost = np.where(ok, a + e, np.inf)
+        i, j = np.unravel_index(int(np.argmin(cost)), cost.shape)
+        return float(g[i]), float(1.0 - g[j])
 
 
 def foot_yaws(contact: BoolArray, foot_pos: FloatArray, footsteps: FloatArray, side_of: IntArray) -> FloatArray:

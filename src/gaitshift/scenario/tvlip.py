@@ -22,6 +22,7 @@ from gaitshift.scenario.fields import (
     check_samples,
 )
 from gaitshift.scenario.sim_settings import SimSettings
+from gaitshift.scenario.terrain import TerrainPiece, check_pieces
 
 
 class Timing(StrictModel):
@@ -84,7 +85,11 @@ class TvlipScenario(StrictModel):
     #: at (0, +/- step_width/2, 0); the last foothold is followed by a closing step beside it.
     footsteps: tuple[tuple[Real, Real, Real, Real], ...] | None = None
     limits: Limits = Limits()
+    #: the ground under the footholds (scenario/terrain.py); empty: the flat floor
+    terrain: tuple[TerrainPiece, ...] = ()
     swing_height: NonNegLength = 0.08
+    #: height kept between a swinging sole and the terrain edges it passes over, m (gait/swing.py)
+    edge_clearance: NonNegLength = 0.03
     dt: Annotated[float, Strict(), Field(ge=1e-4, le=0.05, allow_inf_nan=False, validate_default=True)] = 0.001
 
     @property
@@ -97,6 +102,12 @@ class TvlipScenario(StrictModel):
         gait = info.data.get("gait")
         if v is not None and gait is not None and len(v) != sum(s.steps for s in gait):
             raise ValueError(f"one foothold per step of gait ({sum(s.steps for s in gait)}), not {len(v)}")
+        return v
+
+    @field_validator("terrain")
+    @classmethod
+    def _terrain_sorted(cls, v: tuple[TerrainPiece, ...]) -> tuple[TerrainPiece, ...]:
+        check_pieces(v)
         return v
 
     @field_validator("dt")

@@ -2,11 +2,11 @@
 
 Every control tick (= physics step, 2 ms by default):
 
-1. read the truth for the metrics (``mj_forward`` + ``mj_subtreeVel``, foot contacts of
-   :mod:`gaitshift.sim.contacts`); stop at a fall (pelvis below 60 % of its initial height, or any
-   non-sole geom touching the floor); sense (:mod:`gaitshift.sim.sensing`): sensors, state estimator
-   (or the truth with ``state="oracle"``), latency prediction, the controller's OWN ``MjData``: steps
-   2-5 read only that view (the truth barrier);
+1. read the truth for the metrics (``mj_forward`` + ``mj_subtreeVel``, foot contacts of :mod:`gaitshift.sim.contacts`);
+   stop at a fall (pelvis below 60 % of its initial height, both above the plan's terrain, or any non-sole geom
+   touching the ground); sense (:mod:`gaitshift.sim.sensing`): sensors, state estimator (or the truth with
+   ``state="oracle"``), latency prediction, the controller's OWN ``MjData``: steps 2-5 read only that view (the truth
+   barrier);
 2. online VHIP plans: re-plan at each planning instant from the measured CoM
    (:mod:`gaitshift.control.online_driver`);
 3. update the foot state machine (contact schedule of the plan, with early/late touchdown from the
@@ -40,6 +40,7 @@ from gaitshift.control.reference import SwingSettings, tick_reference
 from gaitshift.control.schedule import FootScheduler, ScheduleSettings
 from gaitshift.control.wbc import WholeBodyController
 from gaitshift.control.wbc_data import Gains, gains_for
+from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig
 from gaitshift.sim.contacts import ContactSensor, fall_reason
 from gaitshift.sim.estimation_metrics import sensing_metrics
@@ -131,7 +132,8 @@ class _Run:
         q0 = initial_qpos(plant, traj.com_pos[0], traj.foot_pos[0], self.plan.yaw[0])
         self.d.qpos[:] = q0
         mujoco.mj_forward(plant.model, self.d)
-        self.pelvis0 = float(q0[2])
+        self.ground = Terrain.from_list(traj.meta.get("terrain"))  # pelvis heights are above the ground
+        self.pelvis0 = float(q0[2] - self.ground.height(q0[0]))
         gains = opts.gains if opts.gains is not None else gains_for(plant.robot)
         self.ctrl = WholeBodyController(plant, q0, gains)
         self.sched = FootScheduler(traj, self.plan, opts.schedule, plant.mass * 9.81)
@@ -210,7 +212,7 @@ class _Run:
             mujoco.mj_forward(m, d)
             mujoco.mj_subtreeVel(m, d)
             contacts = self.sensor.read(d)  # truth: the metrics and the fall test
-            why = fall_reason(contacts, float(d.qpos[2]), self.pelvis0)
+            why = fall_reason(contacts, float(d.qpos[2] - self.ground.height(d.qpos[0])), self.pelvis0)
             if why is not None:
                 fell, fall_time, reason, n_done = True, tp, why, k
                 break
@@ -272,7 +274,8 @@ def simulate(
     sense_hooks: Sequence[TickHook] = (),
 ) -> SimResult:
     """Run ``traj`` closed-loop on ``robot`` (built-in name, YAML or config; ignored when ``plant`` is
-    given) and return the logged result (see module docstring).
+    given; the plant gets the plan's terrain, ``traj.meta["terrain"]``) and return the logged result
+    (see module docstring).
 
     With a ``replanner`` (a :class:`~gaitshift.control.drivers.PlanDriver`: online VHIP and locomotion
     plans), the plan is regenerated from the measured CoM at every
@@ -287,7 +290,8 @@ def simulate(
         traj = replanner.trajectory
         if not replanner.step_feedback:
             opts = replace(opts, capture=replace(opts.capture, gain=0.0, anchor=False))
-    plant = with_floor_friction(plant or build_plant(opts.control_period, robot), opts.friction)
+    terrain = Terrain.from_list(traj.meta.get("terrain"))  # the plan's ground, built into the scene
+    plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain), opts.friction)
     run = _Run(traj, opts, plant, replanner, hooks)
     run.sense_hooks = tuple(sense_hooks)
     try:

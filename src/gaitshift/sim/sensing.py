@@ -91,8 +91,9 @@ def with_floor_friction(plant: Any, mu: float | None) -> Any:
     if mu is None:
         return plant
     model = copy.copy(plant.model)
-    model.geom_friction[plant.floor_geom, 0] = float(mu)
-    model.geom_priority[plant.floor_geom] = int(model.geom_priority.max()) + 1
+    ground = list(getattr(plant, "ground_geoms", ()) or (plant.floor_geom,))  # the floor and the terrain
+    model.geom_priority[ground] = int(model.geom_priority.max()) + 1
+    model.geom_friction[ground, 0] = float(mu)
     return replace(plant, model=model)
 
 

@@ -19,15 +19,23 @@ from typing import Any
 import numpy as np
 
 from gaitshift.errors import InfeasibleError, InputError
-from gaitshift.gait.footsteps import Footstep, closing_footstep, footsteps_from_profile, initial_feet, stride_profile
+from gaitshift.gait.footsteps import (
+    Footstep,
+    closing_footstep,
+    footsteps_from_profile,
+    initial_feet,
+    on_terrain,
+    stride_profile,
+)
 from gaitshift.gait.sequence import GaitSequence, build_sequence
-from gaitshift.gait.swing import foot_yaws, mid_heading
+from gaitshift.gait.swing import EdgeClearance, foot_yaws, mid_heading
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.stiffness import Stiffness
 from gaitshift.models.stiffness import stiffness as solve_stiffness
 from gaitshift.planners.tvlip.boxes import build_boxes
 from gaitshift.planners.tvlip.kkt import BoundaryPlan, phase_coefficients, solve_axes
 from gaitshift.planners.tvlip.sampling import sample
+from gaitshift.scenario.terrain import terrain_of
 from gaitshift.scenario.tvlip import TvlipScenario
 from gaitshift.trajectory.contract import LEFT, RIGHT, Trajectory
 
@@ -114,6 +122,11 @@ def sequence_for(sc: TvlipScenario) -> tuple[GaitSequence, Stiffness]:
     gaits = [seg.gait for seg in sc.gait for _ in range(seg.steps)]
     first = LEFT if sc.first_swing == "left" else RIGHT
     feet = _profile_footsteps(sc, len(gaits), first) if sc.footsteps is None else _listed_footsteps(sc, first)
+    try:
+        feet = on_terrain(feet, terrain_of(sc.terrain), sc.foot.size)
+    except ValueError as exc:
+        i, why = str(exc).split(": ", 1)
+        raise InputError("terrain", f"foothold {i}", f"soles clear of its edges ({why})") from None
     seq = build_sequence(gaits, feet, k, tm.single_support, tm.double_support, tm.flight, tm.start, tm.stop)
     return seq, k
 
@@ -127,8 +140,10 @@ def plan_sequence(
     zmp_z: Sequence[float],
     dt: float,
     swing_height: float,
+    edges: EdgeClearance | None = None,
 ) -> tuple[dict[str, FloatArray], BoundaryPlan]:
-    """Solve and sample; raise :class:`InfeasibleError` if the ZMP cannot stay in eq. (7)'s box."""
+    """Solve and sample (swings clear the terrain's ``edges``); raise :class:`InfeasibleError` if the
+    ZMP cannot stay in eq. (7)'s box."""
     bp = solve_boundaries(seq, height, g, foot_size, margin, zmp_z)
     if bp.violation > ZMP_TOL:
         tb = seq.boundary_times
@@ -137,16 +152,23 @@ def plan_sequence(
             f"(phase boundary {bp.violation_at}); allowed: within the sole minus foot.zmp_margin "
             f"(shorten the stride, widen foot.size, or change the timing)"
         )
-    return sample(seq, bp, g, dt, swing_height), bp
+    return sample(seq, bp, g, dt, swing_height, edges), bp
 
 
 def plan_scenario(sc: TvlipScenario) -> Trajectory:
     """Plan a TV-LIPM scenario and return the sampled :class:`Trajectory`."""
     t0 = time.perf_counter()
     seq, k = sequence_for(sc)
-    data, bp = plan_sequence(
-        seq, sc.height, sc.gravity, sc.foot.size, sc.foot.zmp_margin, sc.foot.zmp_z, sc.dt, sc.swing_height
-    )
+    terrain = terrain_of(sc.terrain)
+    edges = None if terrain.flat else EdgeClearance(terrain, sc.foot.size[0], sc.edge_clearance)
+    try:
+        data, bp = plan_sequence(
+            seq, sc.height, sc.gravity, sc.foot.size, sc.foot.zmp_margin, sc.foot.zmp_z, sc.dt, sc.swing_height, edges
+        )
+    except ValueError as exc:
+        if isinstance(exc, InputError):
+            raise
+        raise InputError("swing_height", sc.swing_height, f"a swing that clears the terrain ({exc})") from None
     elapsed = time.perf_counter() - t0
     meta = {
         "planner": "tvlip",
@@ -159,6 +181,8 @@ def plan_scenario(sc: TvlipScenario) -> Trajectory:
         "max_zmp_violation": bp.violation,
         "plan_time_s": elapsed,
         "step_gait": list(seq.step_gait),
+        "terrain": terrain.as_list(),
+        "edge_clearance": sc.edge_clearance,
         "scenario": json.loads(sc.model_dump_json()),
     }
     extras: dict[str, np.ndarray] = {

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gaitshift.gait.sequence import GaitSequence
+from gaitshift.gait.swing import EdgeClearance
 from gaitshift.models.arrays import BoolArray, FloatArray, IntArray
 from gaitshift.models.sextic import SEXTIC_INVERSE
 from gaitshift.planners.tvlip.kkt import BoundaryPlan
@@ -204,6 +205,8 @@ class SwingTable:
         t_lift: (K, 2) lift-off time of the swing, s; inv_dur: (K, 2) 1 / swing duration, 1/s.
         step: (K, 2, 2) horizontal step from lift-off to touchdown, m (0 in contact).
         a36: (K, 2, 4) height sextic coefficients a_3..a_6 in the swing time u, m (0 in contact).
+        w0, inv_w: (K, 2) start and 1 / length of the window of the horizontal blend in u
+            (:class:`~gaitshift.gait.swing.EdgeClearance`; 0 and 1 without terrain).
     """
 
     rest: FloatArray
@@ -212,11 +215,14 @@ class SwingTable:
     inv_dur: FloatArray
     step: FloatArray
     a36: FloatArray
+    w0: FloatArray
+    inv_w: FloatArray
 
 
-def swing_table(seq: GaitSequence, swing_height: float) -> SwingTable:
+def swing_table(seq: GaitSequence, swing_height: float, edges: EdgeClearance | None = None) -> SwingTable:
     """The swings of both feet per phase: from the footstep before (last contact) to the footstep after
-    (next contact), the apex ``swing_height`` above the higher of the two (m)."""
+    (next contact), the apex ``swing_height`` above the higher of the two (m); over terrain (``edges``)
+    the horizontal blend runs in the window that clears its edges."""
     on = seq.on  # (K, 2)
     fs = seq.footstep_array
     tb = seq.boundary_times
@@ -237,36 +243,53 @@ def swing_table(seq: GaitSequence, swing_height: float) -> SwingTable:
     # a3..a6 = M^-1 [z1 - z0, 0, 0, apex - z0]
     a36 = rise[..., None] * SEXTIC_INVERSE[:, 0] + clearance[..., None] * SEXTIC_INVERSE[:, 3]
     inv_dur = np.divide(1.0, t_land - t_lift, out=np.zeros((K, 2)), where=sw)
-    return SwingTable(start, sw, t_lift, inv_dur, end[..., :2] - start[..., :2], a36)
+    w0, inv_w = np.zeros((K, 2)), np.ones((K, 2))
+    if edges is not None:
+        for k, side in zip(*np.nonzero(sw), strict=True):
+            a, b = edges.window(start[k, side], end[k, side], swing_height)
+            w0[k, side], inv_w[k, side] = a, 1.0 / (b - a)
+    return SwingTable(start, sw, t_lift, inv_dur, end[..., :2] - start[..., :2], a36, w0, inv_w)
 
 
-def feet(seq: GaitSequence, ps: PhaseSamples, swing_height: float, out: FloatArray | None = None) -> FloatArray:
+def feet(
+    seq: GaitSequence,
+    ps: PhaseSamples,
+    swing_height: float,
+    out: FloatArray | None = None,
+    edges: EdgeClearance | None = None,
+) -> FloatArray:
     """Sole centres (N, 2, 3): fixed on their footstep in contact, swing paths in between (minimum-jerk
     horizontal blend and the height sextic through the apex ``swing_height`` above the higher sole,
     as :func:`gaitshift.gait.swing.swing_path`), written into ``out`` when given.
 
     One formula for all samples: a sole in contact is a swing of zero length (u = 0, no step, no
-    sextic), so its position is its footstep exactly."""
-    tab = swing_table(seq, swing_height)
+    sextic), so its position is its footstep exactly. Over terrain, see :func:`swing_table`."""
+    tab = swing_table(seq, swing_height, edges)
     n = len(ps.s)
     if out is None:
         out = np.empty((n, 2, 3))
     u, u3, blend, z = (np.empty(n) for _ in range(4))
+    uh = np.empty(n)
     for side in (LEFT, RIGHT):
         np.subtract(ps.t, ps.expand(np.where(tab.swinging[:, side], tab.t_lift[:, side], 0.0)), out=u)
         u *= ps.expand(tab.inv_dur[:, side])
         np.clip(u, 0.0, 1.0, out=u)
-        np.multiply(u, u, out=u3)
-        u3 *= u
-        np.multiply(u, 6.0, out=blend)  # minimum jerk: u^3 (10 + u (6 u - 15))
+        np.subtract(u, ps.expand(tab.w0[:, side]), out=uh)  # the horizontal blend's window
+        uh *= ps.expand(tab.inv_w[:, side])
+        np.clip(uh, 0.0, 1.0, out=uh)
+        np.multiply(uh, uh, out=u3)
+        u3 *= uh
+        np.multiply(uh, 6.0, out=blend)  # minimum jerk: u^3 (10 + u (6 u - 15))
         blend -= 15.0
-        blend *= u
+        blend *= uh
         blend += 10.0
         blend *= u3
         for j in range(2):
             x = ps.expand(tab.step[:, side, j])
             x *= blend
             np.add(x, ps.expand(tab.rest[:, side, j]), out=out[:, side, j])
+        np.multiply(u, u, out=u3)
+        u3 *= u
         a = tab.a36[:, side]  # (K, 4)
         np.multiply(ps.expand(a[:, 3]), u, out=z)
         for c in (2, 1):
@@ -278,8 +301,11 @@ def feet(seq: GaitSequence, ps: PhaseSamples, swing_height: float, out: FloatArr
     return out
 
 
-def sample(seq: GaitSequence, bp: BoundaryPlan, g: float, dt: float, swing_height: float) -> dict[str, FloatArray]:
-    """Closed-form sampling of CoM, ZMP and feet at a fixed step ``dt`` (arrays of the contract).
+def sample(
+    seq: GaitSequence, bp: BoundaryPlan, g: float, dt: float, swing_height: float, edges: EdgeClearance | None = None
+) -> dict[str, FloatArray]:
+    """Closed-form sampling of CoM, ZMP and feet at a fixed step ``dt`` (arrays of the contract); the
+    swings clear the terrain's edges given by ``edges``.
 
     The float arrays are C-contiguous views into one block (one allocation instead of ten)."""
     ps = phase_samples(seq.boundary_times, dt)
@@ -293,7 +319,7 @@ def sample(seq: GaitSequence, bp: BoundaryPlan, g: float, dt: float, swing_heigh
     sup = kinds != FLIGHT
     com_samples(phase_table(seq, bp, g), ps, out=(pos, vel, acc, zmp))
     foot_pos = views[4].reshape(n, 2, 3)
-    feet(seq, ps, swing_height, out=foot_pos)
+    feet(seq, ps, swing_height, out=foot_pos, edges=edges)
     stiffness = views[5]
     stiffness[:] = np.repeat(np.where(sup, seq.stiffness, np.nan), counts)
     command = views[6].reshape(n, 2)
