@@ -9,8 +9,10 @@ estimate: ``est_*`` of :class:`gaitshift.sim.sensing.EstimationLog`), over the t
 * ``yaw_drift``: ``|yaw_hat - yaw|`` of the base at the last tick (wrapped to [0, pi]), rad;
 * ``pos_drift_per_m``: horizontal base position error at the last tick over the horizontal distance the
   base travelled (sum of ``|dp_xy|``), m/m (null below 0.1 m travelled);
-* ``contact_accuracy``: fraction of ticks where both estimated stance flags equal the truth (a sole
-  sphere on the floor, MuJoCo's contact list);
+* ``contact_accuracy``: fraction of ticks where both estimated stance flags equal the truth: the sole
+  carries a nonzero normal force (a sole sphere in MuJoCo's contact list whose contact force has a
+  positive normal component; a listed contact with zero force, e.g. a sphere inside the contact margin
+  after lift-off, is no contact); ``contact_accuracy_list``: the same against the contact list alone;
 * ``com_rmse``, ``com_vel_rmse``: 3D CoM position (m) and velocity (m/s) RMS errors;
 * ``slip_ticks``: ticks with a slip flag; ``tick_us``: median cost of ``StateEstimator.step``, µs;
 * ``used_by_controller``: true for ``state="estimated"`` (in oracle runs the estimator runs alongside).
@@ -54,6 +56,7 @@ def estimation_errors(a: dict[str, np.ndarray]) -> dict[str, Any]:
     travelled = float(np.sum(np.linalg.norm(np.diff(a["qpos"][:, :2], axis=0), axis=1)))
     drift = float(np.linalg.norm(qh[-1, :2] - q[-1, :2]))
     cost = a["est_tick_us"][s]
+    loaded = a["contact"][s] & (a["grf"][s, :, 2] > 0.0)
     return {
         "base_vel_rmse": _rms(a["est_qvel"][s, :3] - a["qvel"][s, :3]),
         "tilt_rmse": float(np.sqrt(np.mean(tilt**2))),
@@ -61,7 +64,8 @@ def estimation_errors(a: dict[str, np.ndarray]) -> dict[str, Any]:
         "pos_drift_per_m": drift / travelled if travelled >= 0.1 else None,
         "pos_drift": drift,
         "distance": travelled,
-        "contact_accuracy": float(np.mean(np.all(a["est_contact"][s] == a["contact"][s], axis=1))),
+        "contact_accuracy": float(np.mean(np.all(a["est_contact"][s] == loaded, axis=1))),
+        "contact_accuracy_list": float(np.mean(np.all(a["est_contact"][s] == a["contact"][s], axis=1))),
         "com_rmse": _rms(a["est_com"][s] - a["com_pos"][s]),
         "com_vel_rmse": _rms(a["est_com_vel"][s] - a["com_vel"][s]),
         "slip_ticks": int(np.sum(np.any(a["est_slip"][s], axis=1))),

@@ -32,7 +32,8 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from gaitshift.control.estimation import StateEstimator
+from gaitshift.control.estimation import GyroCalibration, StateEstimator
+from gaitshift.control.estimation.contact import noise_thresholds
 from gaitshift.control.estimation.filters import FILTERS
 from gaitshift.control.estimation.noise import noise_profile
 from gaitshift.control.estimation.tuning import FilterTuning
@@ -55,9 +56,13 @@ IMU_SITE = "imu_in_pelvis"
 #: pose (the estimator's reset state); the prior lets the filter separate the accelerometer's turn-on
 #: bias from the tilt while the robot stands (a level floor is known to about 1 mrad)
 START_TILT_STD = 1e-3
-#: contact thresholds, fractions of the weight: at least these, and 5 / 2.5 std of the force noise
-#: (a false switch-on then needs a 5-sigma sample: none expected in a run; no debounce needed)
-CONTACT_ON, CONTACT_OFF = 0.10, 0.05
+#: samples of the moving average of the sole forces; the thresholds follow from the force noise
+#: (gaitshift.control.estimation.contact.noise_thresholds: 4 and 1.5 std of the averaged noise)
+CONTACT_WINDOW = 2
+#: the robot stands still this long (s) before the run while the estimator averages the gyro: the
+#: turn-on gyro bias, unobservable in heading once the robot runs, is calibrated away (eq. (1) of
+#: gaitshift.control.estimation.calibration)
+GYRO_CALIBRATION_TIME = 2.0
 
 
 def check_sensing_options(opts: Any) -> None:
@@ -163,7 +168,7 @@ class Sensing:
             self._true_slip = _TrueSlip(plant)
             return
         self.sensors = SensorModel(m, profile, opts.seed, IMU_SITE)
-        on, off = max(CONTACT_ON, 5.0 * profile.force), max(CONTACT_OFF, 2.5 * profile.force)
+        on, off = noise_thresholds(profile.force, CONTACT_WINDOW)
         self.estimator = StateEstimator.from_robot(
             plant.robot,
             plant.dt,
@@ -173,8 +178,12 @@ class Sensing:
             contact_on=on,
             contact_off=off,
             debounce=1,
+            contact_window=CONTACT_WINDOW,
         )
-        self.estimator.reset(qpos0, np.zeros(m.nv), (True, True))
+        calibration = GyroCalibration.from_samples(
+            self.sensors.still_gyro(GYRO_CALIBRATION_TIME), plant.dt, profile.gyro_bias_walk
+        )
+        self.estimator.reset(qpos0, np.zeros(m.nv), (True, True), calibration)
         self.qpos0 = np.asarray(qpos0, float).copy()
         self.pipe = CommandPipe(self.cmodel, opts.latency, opts.predict_latency)
         self.mu = float(opts.assumed_friction if opts.assumed_friction is not None else DEFAULT_ASSUMED_FRICTION)

@@ -76,6 +76,14 @@ class SensorModel:
         self.noise = SensorNoise(profile, float(model.opt.timestep), nj, weight, seed)
         self._accel: np.ndarray | None = None
 
+    def still_gyro(self, seconds: float) -> np.ndarray:
+        """Gyro readings (N, 3) rad/s of a robot that stands still for ``seconds`` before the run (true
+        rate zero; the biases walk on meanwhile): the samples of a standstill calibration. The
+        accelerometer readings drawn alongside are discarded."""
+        n = max(2, round(seconds / self.noise.dt))
+        zero = np.zeros(3)
+        return np.array([self.noise.imu(zero, zero).gyro for _ in range(n)])
+
     def latch(self, d: Any) -> None:
         """Keep the accelerometer value ``mj_step`` computed (call after the step, before ``mj_forward``)."""
         self._accel = d.sensordata[self.accel_adr : self.accel_adr + 3].copy()

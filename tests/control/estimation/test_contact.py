@@ -1,6 +1,7 @@
 """Contact detector: the Schmitt trigger switches at on/off fractions of the weight, ignores noise
 between them (hysteresis), and waits ``debounce`` consecutive ticks (spikes shorter than that are
-ignored); bad settings raise InputError."""
+ignored); the moving average halves a one-tick spike; thresholds derived from the force noise hold a
+swing sole off through pure noise and release an unloaded sole at once; bad settings raise InputError."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 
 from gaitshift.control.estimation import ContactDetector, FootForces
+from gaitshift.control.estimation.contact import noise_thresholds
 from gaitshift.errors import InputError
 
 WEIGHT = 330.0  # N, the G1
@@ -61,3 +63,25 @@ def test_bad_settings_raise_input_error(kwargs, field):
     with pytest.raises(InputError) as err:
         ContactDetector(**kwargs)
     assert err.value.field == field
+
+
+def test_the_moving_average_halves_a_one_tick_spike():
+    det = ContactDetector(WEIGHT, on_fraction=0.2, off_fraction=0.05, debounce=1, window=2)
+    spike = [0.0, 0.3 * WEIGHT, 0.0, 0.0]  # the mean of two samples: 0.15 W < 0.2 W
+    assert not any(_feed(det, spike))
+    assert _feed(det, [0.3 * WEIGHT] * 2) == [False, True]  # a held load: on at the second sample
+
+
+def test_noise_thresholds_scale_with_the_averaged_noise_and_hold_off_pure_noise():
+    on1, off1 = noise_thresholds(0.02, 1)
+    on4, off4 = noise_thresholds(0.02, 4)
+    assert on4 == pytest.approx(on1 / 2) and off4 == pytest.approx(off1 / 2)
+    assert noise_thresholds(0.0, 1)[0] > 0  # a noise-free signal keeps the sensor's resolution
+    on, off = noise_thresholds(0.02, 2)
+    det = ContactDetector(WEIGHT, on_fraction=on, off_fraction=off, debounce=1, window=2)
+    rng = np.random.default_rng(0)
+    unloaded = rng.normal(0.0, 0.02 * WEIGHT, 20000)  # a swing sole: noise only
+    assert np.count_nonzero(_feed(det, list(unloaded))) <= 20  # a 4-sigma event: 3e-5 per tick
+    det.reset((True, False))
+    released = _feed(det, list(unloaded[:50]))
+    assert released.index(False) <= 5  # an unloaded sole is released at once (Phi(1.5) = 0.93 per tick)

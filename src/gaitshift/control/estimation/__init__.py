@@ -13,6 +13,7 @@ The pieces (each usable alone): :class:`ContactDetector`, :class:`JointVelocityF
 :func:`synthetic_walk` (analytic ground truth). Equations and measured numbers: docs/estimation.md.
 """
 
+from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.contact import ContactDetector
 from gaitshift.control.estimation.estimator import StateEstimator
 from gaitshift.control.estimation.filters import DEFAULT_FILTER, FILTERS, make_filter
@@ -46,6 +47,7 @@ __all__ = [
     "FilterTuning",
     "FootForces",
     "FootKinematics",
+    "GyroCalibration",
     "ImuReading",
     "InvariantEKF",
     "JointReading",

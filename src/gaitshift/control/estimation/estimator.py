@@ -26,6 +26,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.contact import ContactDetector
 from gaitshift.control.estimation.filters import DEFAULT_FILTER, make_filter
 from gaitshift.control.estimation.joints import JointVelocityFilter
@@ -52,6 +53,7 @@ class StateEstimator:
         tuning: explicit tuning (overrides ``noise``).
         contact_on, contact_off: contact thresholds, fractions of the robot weight.
         debounce: contact debounce, ticks.
+        contact_window: samples of the moving average of the sole forces before the trigger.
         slip_speed: horizontal stance-sole speed above which the sole slips, m/s.
         slip_tau: time constant of the low-pass on the sole velocity before that test, s.
         gravity: g, m/s^2.
@@ -70,6 +72,7 @@ class StateEstimator:
         contact_on: float = 0.15,
         contact_off: float = 0.05,
         debounce: int = 2,
+        contact_window: int = 1,
         slip_speed: float = 0.2,
         slip_tau: float = 0.03,
         gravity: float = 9.81,
@@ -84,7 +87,9 @@ class StateEstimator:
         self.tuning = tuning if tuning is not None else FilterTuning.from_profile(noise, dt)
         t = self.tuning
         self.kinematics = LegKinematics(model, imu_site, sole_sites, t.encoder_std)
-        self.contact = ContactDetector(self.kinematics.mass * gravity, contact_on, contact_off, debounce)
+        self.contact = ContactDetector(
+            self.kinematics.mass * gravity, contact_on, contact_off, debounce, contact_window
+        )
         n = self.kinematics.n_joints
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
@@ -102,10 +107,15 @@ class StateEstimator:
         return cls(robot.model(), dt, sole_sites=robot.SOLE_SITES, **kwargs)
 
     def reset(
-        self, qpos: np.ndarray, qvel: np.ndarray | None = None, contact: tuple[bool, bool] = (True, True)
+        self,
+        qpos: np.ndarray,
+        qvel: np.ndarray | None = None,
+        contact: tuple[bool, bool] = (True, True),
+        gyro_bias: GyroCalibration | None = None,
     ) -> None:
         """Restart from a known state: MuJoCo ``qpos`` (7 + nj,), ``qvel`` (6 + nj,) (zero if None),
-        and the stance flags (2,)."""
+        the stance flags (2,) and, if given, a standstill gyro-bias calibration (the filter's gyro-bias
+        prior)."""
         qpos = np.asarray(qpos, dtype=float)
         qvel = np.zeros(qpos.size - 1) if qvel is None else np.asarray(qvel, dtype=float)
         if qpos.shape != (self.kinematics.n_joints + 7,) or qvel.shape != (self.kinematics.n_joints + 6,):
@@ -117,7 +127,7 @@ class StateEstimator:
         pos = qpos[0:3] - rot @ kin.points[3]
         omega_w = rot_b @ qvel[3:6]
         vel = qvel[0:3] + np.cross(omega_w, pos - qpos[0:3])
-        self.filter.reset(rot, pos, vel)
+        self.filter.reset(rot, pos, vel, gyro_bias)
         self.joints.reset(q, qd)
         self.contact.reset(contact)
         self._slip = (False, False)

@@ -68,6 +68,7 @@ import mujoco
 import numpy as np
 from scipy.linalg.lapack import dposv
 
+from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.lie import SKEW, exp_blocks, log_rot, quat_exp, quat_of_mat
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading
@@ -180,10 +181,13 @@ class InvariantEKF:
         self.reset(np.eye(3), np.zeros(3))
 
     # ------------------------------------------------------------------ set-up
-    def reset(self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None) -> None:
+    def reset(
+        self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None, gyro_bias: GyroCalibration | None = None
+    ) -> None:
         """Restart at IMU orientation ``rot`` (3, 3), position (3,) and velocity (3,) (zero if None),
-        the biases at zero (their prior mean); the covariance restarts from the tuning's priors and
-        no foot is in the state."""
+        the biases at zero (their prior mean) or the gyro bias at a standstill calibration
+        ``gyro_bias`` (:class:`~gaitshift.control.estimation.calibration.GyroCalibration`: its mean and
+        std); the covariance restarts from the tuning's priors and no foot is in the state."""
         t = self.tuning
         self._quat[:] = quat_of_mat(rot)
         mujoco.mju_quat2Mat(self._rot9, self._quat)
@@ -191,13 +195,17 @@ class InvariantEKF:
         self._origin[:] = pos
         self._vec[1:4] = 0.0
         self._bias[:] = 0.0
+        bg_std = t.gyro_bias_std
+        if gyro_bias is not None:
+            self._bias_g[:] = gyro_bias.bias
+            bg_std = gyro_bias.std
         var = np.concatenate(
             [
                 [t.init_tilt_std**2] * 2 + [t.init_yaw_std**2],
                 [t.init_vel_std**2] * 3,
                 [t.init_pos_std**2] * 9,
                 [t.init_tilt_std**2] * (self.nx - 21),
-                [t.gyro_bias_std**2] * 3,
+                [bg_std**2] * 3,
                 [t.accel_bias_std**2] * 3,
             ]
         )

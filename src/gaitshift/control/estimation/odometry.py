@@ -23,6 +23,7 @@ import math
 import mujoco
 import numpy as np
 
+from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.lie import SKEW, quat_of_mat
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading
@@ -51,14 +52,16 @@ class LegOdometry:
         self._weights = {(True, False): np.array([1.0, 0.0]), (False, True): np.array([0.0, 1.0])}
         self._weights[True, True] = np.array([0.5, 0.5])
 
-    def reset(self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None) -> None:
+    def reset(
+        self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None, gyro_bias: GyroCalibration | None = None
+    ) -> None:
         """Restart at orientation (3, 3), position (3,) and velocity (3,) (zero if None); the gyro
-        bias restarts at zero."""
+        bias restarts at zero, or at the mean of a standstill calibration ``gyro_bias``."""
         self._quat[:] = quat_of_mat(rot)
         mujoco.mju_quat2Mat(self._rot9, self._quat)
         self._pos[:] = pos
         self._vel[:] = 0.0 if vel is None else vel
-        self._bias[:] = 0.0
+        self._bias[:] = 0.0 if gyro_bias is None else gyro_bias.bias
         self._anchored = [False, False]
 
     def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:

@@ -15,6 +15,7 @@ from typing import Protocol
 
 import numpy as np
 
+from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.lie import mat_of_quat
 
 
@@ -108,8 +109,11 @@ class BaseState:
 class BaseFilter(Protocol):
     """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``)."""
 
-    def reset(self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None) -> None:
-        """Restart from a known IMU pose (3, 3)/(3,) and velocity (3,) (zero if None), biases at zero."""
+    def reset(
+        self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None, gyro_bias: GyroCalibration | None = None
+    ) -> None:
+        """Restart from a known IMU pose (3, 3)/(3,) and velocity (3,) (zero if None), biases at zero
+        or the gyro bias at a standstill calibration ``gyro_bias``."""
         ...
 
     def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:
