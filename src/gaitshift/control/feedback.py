@@ -5,18 +5,26 @@ While a foot swings (until ``freeze_u`` of its swing) its target is moved by the
     delta = k_cp (xi - xi_ref),    xi = c + cd / omega,    omega = sqrt(g / h)
 
 (xi: the divergent component of motion, or instantaneous capture point, of the LIPM; h the plan's CoM
-height), horizontal, clipped to ``max_step_adjust`` per axis, with ``xi`` measured and ``xi_ref``
-that of the shifted plan. When the foot lands, the whole remaining plan (CoM reference and later
-footholds) is translated by its correction, blended in with the first-order lag
-``shift' = (target - shift) / shift_time`` (one explicit Euler step per tick): the plan is
-re-anchored on where the robot actually stands, as the LIPM is translation invariant.
+height), horizontal, with ``xi`` measured and ``xi_ref`` that of the shifted plan. The corrected
+foothold is then kept inside the leg's kinematic limits (reach from the hip at touchdown, no crossing
+of the feet: :mod:`gaitshift.control.step_limits`, derived from the robot model) and, if
+``max_step_adjust`` is set, the correction is also clipped to it per axis. The correction is
+recomputed every tick until ``freeze_u``, so the swing foot re-targets mid-swing.
+
+When the foot lands, the whole remaining plan (CoM reference and later footholds) is translated by
+its correction, blended in with the first-order lag ``shift' = (target - shift) / shift_time`` (one
+explicit Euler step per tick): the plan is re-anchored on where the robot actually stands, as the LIPM
+is translation invariant.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from gaitshift.control.step_limits import StepLimits
 
 
 @dataclass(frozen=True)
@@ -27,7 +35,9 @@ class CaptureSettings:
     gain: float = 1.0
     freeze_u: float = 0.7  # swing progress after which the foothold correction is frozen
     shift_time: float = 0.1  # s: time constant of the plan shift after a corrected touchdown
-    max_step_adjust: float = 0.10  # m
+    max_step_adjust: float | None = None  # m per axis; None: the kinematic limits alone
+    kinematic_limits: bool = True  # reach and crossing limits (gaitshift.control.step_limits)
+    reach_fraction: float = 0.95  # share of the leg length the knee may straighten to (step_limits eq. 1)
     anchor: bool = True  # estimated state: keep the plan on the measured stance soles (PlanShift.anchor_on)
 
 
@@ -50,6 +60,23 @@ def capture_point_offset(
     return out
 
 
+@dataclass(frozen=True)
+class SwingContext:
+    """What the limits of a swinging foot's correction need (:meth:`PlanShift.correct_swings`).
+
+    Attributes:
+        footholds: (2, 3) m, each foot's planned foothold of its current (or last) swing (unshifted).
+        measured: (2, 3) m, the sole positions as the controller sees them.
+        time_left: (2,) s, time to each foot's planned touchdown (>= 0).
+        yaw: heading of the plan now, rad.
+    """
+
+    footholds: np.ndarray
+    measured: np.ndarray
+    time_left: np.ndarray
+    yaw: float
+
+
 class PlanShift:
     """State of the step feedback: the plan translation and the current foothold corrections.
 
@@ -59,9 +86,10 @@ class PlanShift:
         offset: (2, 3) m, correction of each swinging foot's target (0 for a stance foot).
     """
 
-    def __init__(self, settings: CaptureSettings, omega: float) -> None:
+    def __init__(self, settings: CaptureSettings, omega: float, limits: StepLimits | None = None) -> None:
         self.settings = settings
         self.omega = omega
+        self.limits = limits if settings.kinematic_limits else None
         self.shift = np.zeros(3)
         self.target = np.zeros(3)
         self.offset = np.zeros((2, 3))
@@ -104,18 +132,28 @@ class PlanShift:
         com_vel: np.ndarray,
         com_plan: np.ndarray,
         vel_plan: np.ndarray,
+        ctx: SwingContext | None = None,
     ) -> None:
         """Recompute the correction of each swinging foot before ``freeze_u`` of its swing.
 
         ``stance`` (2,) bool: feet in stance (left alone); ``progress`` (2,): swing progress u of each
         foot (:meth:`gaitshift.control.schedule.FootScheduler.swing_progress`). ``com``/``com_vel``
-        measured, ``com_plan``/``vel_plan`` the plan sample (unshifted), all (3,).
+        measured, ``com_plan``/``vel_plan`` the plan sample (unshifted), all (3,). With ``ctx`` and
+        limits, the corrected foothold is kept inside them (:meth:`StepLimits.clamp`).
         """
         cfg = self.settings
         if cfg.gain <= 0:
             return
+        clip = math.inf if cfg.max_step_adjust is None else cfg.max_step_adjust
         for s in (0, 1):
-            if not stance[s] and progress[s] < cfg.freeze_u:
-                self.offset[s] = capture_point_offset(
-                    com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain, cfg.max_step_adjust
-                )
+            if stance[s] or progress[s] >= cfg.freeze_u:
+                continue
+            delta = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain, clip)
+            if self.limits is not None and ctx is not None:
+                base = ctx.footholds[s] + self.shift
+                o = 1 - s
+                other = ctx.measured[o] if stance[o] else ctx.footholds[o] + self.shift + self.offset[o]
+                hip_com = com + ctx.time_left[s] * com_vel
+                delta = self.limits.clamp(s, base + delta, hip_com, ctx.yaw, other) - base
+                delta[2] = 0.0
+            self.offset[s] = delta

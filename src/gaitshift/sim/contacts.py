@@ -1,6 +1,7 @@
 """Foot contacts and ground reaction forces read from MuJoCo, and the fall test.
 
-Contacts with the floor are sorted by the robot geom involved: a sole sphere marks its foot as
+Contacts with the ground (the floor and any other geom of the world body, such as the bumps of
+:mod:`gaitshift.sim.bumps`) are sorted by the robot geom involved: a sole sphere marks its foot as
 touching and adds its contact force (``mj_contactForce``, rotated from the contact frame to the world
 frame, sign chosen so that it is the force of the floor on the foot) to that foot's ground reaction
 force; any other geom on the floor is a fall. The robot has also fallen when its pelvis is below
@@ -40,20 +41,22 @@ class ContactSensor:
     def __init__(self, plant: Plant) -> None:
         self.plant = plant
         self.side_of = {g: s for s in (0, 1) for g in plant.soles[s].geoms}
+        m = plant.model
+        self.ground = {int(g) for g in np.flatnonzero(m.geom_bodyid == 0)} | {plant.floor_geom}
         self._cf = np.zeros(6)
 
     def read(self, d: mujoco.MjData) -> FootContacts:
         m = self.plant.model
-        floor = self.plant.floor_geom
+        ground = self.ground
         touching = np.zeros(2, bool)
         grf = np.zeros((2, 3))
         foreign = None
         for ci in range(d.ncon):
             con = d.contact[ci]
             g1, g2 = con.geom[0], con.geom[1]
-            if floor not in (g1, g2):
+            if g1 not in ground and g2 not in ground:
                 continue
-            other = g2 if g1 == floor else g1
+            other = g2 if g1 in ground else g1
             if other not in self.side_of:
                 foreign = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, m.geom_bodyid[other])
                 continue

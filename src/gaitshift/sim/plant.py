@@ -9,6 +9,7 @@ docs/simulation.md and docs/robots.md:
   joint, gear 1, ``ctrlrange`` = +- the joint's torque limit read from the model
   (``RobotConfig.torque_limit``: ``actuatorfrcrange``, else the force or control range of its motor);
 * a floor plane (``floor``, the MJCF's default geom class) when the MJCF has no plane in its world body;
+* the bumps asked for (``SimOptions.bumps``, :mod:`gaitshift.sim.bumps`): boxes on the floor;
 * foot geoms whose collisions are all off (a model that collides through ``<pair>`` elements of a
   scene file, e.g. Apollo) get ``contype = conaffinity = 1`` (:func:`gaitshift.robots.soles.contact_geoms`);
 * the time step is the control period (default 2 ms; the controller computes torques once per physics
@@ -32,6 +33,7 @@ from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.robots.mjcf import raw_model
 from gaitshift.robots.soles import contact_geoms
+from gaitshift.sim.bumps import Bump, add_bumps
 from gaitshift.sim.sensor_spec import add_sole_touch_sensors
 
 #: name of the floor geom added to an MJCF that has none
@@ -97,19 +99,22 @@ class Plant:
         return pts
 
 
-def build_plant(control_period: float = 0.002, robot: str | Path | RobotConfig = "g1") -> Plant:
+def build_plant(
+    control_period: float = 0.002, robot: str | Path | RobotConfig = "g1", bumps: tuple[Bump, ...] = ()
+) -> Plant:
     """Compile ``robot`` with torque motors and a floor (see module docstring).
 
     Args:
         control_period: physics time step = control period, s, in [0.001, 0.002].
         robot: built-in name, robot YAML path or config.
+        bumps: boxes on the floor (:mod:`gaitshift.sim.bumps`).
 
     Raises:
         InputError: bad period, or a hinge joint without a torque limit in the model.
     """
     if not (0.001 <= control_period <= 0.002):
         raise InputError("control_period", control_period, "a period in [0.001, 0.002] s")
-    return _build(round(control_period, 6), load_robot(robot))
+    return _build(round(control_period, 6), load_robot(robot), tuple(bumps))
 
 
 def _torque_motors(spec: mujoco.MjSpec, robot: RobotConfig) -> None:
@@ -166,11 +171,12 @@ def _feet_collide(spec: mujoco.MjSpec, robot: RobotConfig) -> None:
 
 
 @lru_cache(maxsize=8)
-def _build(dt: float, robot: RobotConfig) -> Plant:
+def _build(dt: float, robot: RobotConfig, bumps: tuple[Bump, ...] = ()) -> Plant:
     spec = mujoco.MjSpec.from_file(str(robot.mjcf))
     robot.add_sole_sites(spec)
     _torque_motors(spec, robot)
     _floor(spec)
+    add_bumps(spec, bumps)
     _feet_collide(spec, robot)
     add_sole_touch_sensors(spec, robot.sole_bodies)  # sensing hook (sim/sensor_spec.py)
     spec.option.timestep = dt
