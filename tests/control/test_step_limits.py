@@ -74,3 +74,20 @@ def test_a_swing_foot_re_targets_mid_swing_inside_the_limits_until_the_freeze_po
     off = PlanShift(CaptureSettings(kinematic_limits=False), omega=4.0, limits=lim)
     off.correct_swings(stance, np.array([0.6, 0.0]), com, np.array([0.0, -1.6, 0.0]), ref, zero, ctx)
     assert off.offset[0][1] == pytest.approx(-1.6 / 4.0)  # without the limits: the raw correction
+
+
+def test_the_correction_is_the_error_predicted_at_touchdown_on_the_other_foots_stance():
+    """delta = k (xi - xi_ref) exp(omega tau), tau = min(time to touchdown, stance time left of the
+    other foot); 0 when the other foot is in the air."""
+    omega = 4.0
+    footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
+    com, zero = np.array([0.1, 0.0, 0.6]), np.zeros(3)
+    vel = np.array([0.0, 0.2, 0.0])  # capture-point error 0.05 m to the left
+    for stance_left, stance_r, tau in ((0.1, True, 0.1), (0.5, True, 0.2), (0.5, False, 0.0)):
+        ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0, np.array([0.0, stance_left]))
+        shift = PlanShift(CaptureSettings(kinematic_limits=False), omega=omega)
+        shift.correct_swings(np.array([False, stance_r]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
+        assert shift.offset[0][1] == pytest.approx(0.05 * math.exp(omega * tau)), (stance_left, stance_r)
+    plain = PlanShift(CaptureSettings(kinematic_limits=False, predict_touchdown=False), omega=omega)
+    plain.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
+    assert plain.offset[0][1] == pytest.approx(0.05)

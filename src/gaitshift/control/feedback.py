@@ -5,7 +5,13 @@ While a foot swings (until ``freeze_u`` of its swing) its target is moved by the
     delta = k_cp (xi - xi_ref),    xi = c + cd / omega,    omega = sqrt(g / h)
 
 (xi: the divergent component of motion, or instantaneous capture point, of the LIPM; h the plan's CoM
-height), horizontal, with ``xi`` measured and ``xi_ref`` that of the shifted plan. The corrected
+height), horizontal, with ``xi`` measured and ``xi_ref`` that of the shifted plan. With
+``predict_touchdown``, the error is the one predicted at the touchdown: on the other foot's stance the
+LIPM's divergent component moves away from its foothold as ``xi' = omega (xi - p)``, so an error grows
+as ``exp(omega tau)`` until that stance ends or the swing foot lands, ``tau`` = the shorter of the two
+times left (0 when the other foot is not on the ground):
+
+    delta = k_cp (xi - xi_ref) exp(omega tau). The corrected
 foothold is then kept inside the leg's kinematic limits (reach from the hip at touchdown, no crossing
 of the feet: :mod:`gaitshift.control.step_limits`, derived from the robot model) and, if
 ``max_step_adjust`` is set, the correction is also clipped to it per axis. The correction is
@@ -38,6 +44,7 @@ class CaptureSettings:
     max_step_adjust: float | None = None  # m per axis; None: the kinematic limits alone
     kinematic_limits: bool = True  # reach and crossing limits (gaitshift.control.step_limits)
     reach_fraction: float = 0.95  # share of the leg length the knee may straighten to (step_limits eq. 1)
+    predict_touchdown: bool = True  # the error predicted at the touchdown, exp(omega tau) (module docstring)
     anchor: bool = True  # estimated state: keep the plan on the measured stance soles (PlanShift.anchor_on)
 
 
@@ -69,12 +76,21 @@ class SwingContext:
         measured: (2, 3) m, the sole positions as the controller sees them.
         time_left: (2,) s, time to each foot's planned touchdown (>= 0).
         yaw: heading of the plan now, rad.
+        stance_left: (2,) s, time to each stance foot's planned lift-off (>= 0; 0 for a swinging foot).
     """
 
     footholds: np.ndarray
     measured: np.ndarray
     time_left: np.ndarray
     yaw: float
+    stance_left: np.ndarray | None = None
+
+    def growth_time(self, side: int, stance: np.ndarray) -> float:
+        """tau of the module docstring for the swinging foot ``side``, s."""
+        o = 1 - side
+        if self.stance_left is None or not stance[o]:
+            return 0.0
+        return float(max(0.0, min(self.time_left[side], self.stance_left[o])))
 
 
 class PlanShift:
@@ -148,7 +164,10 @@ class PlanShift:
         for s in (0, 1):
             if stance[s] or progress[s] >= cfg.freeze_u:
                 continue
-            delta = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain, clip)
+            gain = cfg.gain
+            if cfg.predict_touchdown and ctx is not None:
+                gain *= math.exp(self.omega * ctx.growth_time(s, stance))
+            delta = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, gain, clip)
             if self.limits is not None and ctx is not None:
                 base = ctx.footholds[s] + self.shift
                 o = 1 - s
