@@ -10,8 +10,9 @@ a 4-tick latency (with and without prediction); the largest ``rl-peer`` noise sc
 
 * Push: ``g1-push-recovery`` (12 running steps) with impulses (N s, 0.1 s) at mid-stance (single
   support) of running steps 4 and 8: ``lateral`` +y then -y, ``forward`` +x twice, ``backward`` -x
-  twice; the largest impulse survived without a fall is found by bisection (0.5 N s), with the step
-  adjustment (:mod:`gaitshift.control.feedback`) at its default gain (1) and off (gain 0).
+  twice; the largest impulse survived without a fall is found by bisection (0.5 N s; the upper end
+  starts at 48 N s and doubles while survived), with the step adjustment
+  (:mod:`gaitshift.control.feedback`) at its default gain (1) and off (gain 0).
 * Top speed: ``g1-top-speed`` with the constant stride swept; for each stride the planned speed is
   stride / (tau_SS + tau_F), and the measured mean forward CoM speed over the constant-stride steps is
   reported; the top speed is the fastest plan held for all 10 constant steps without a fall.
@@ -54,21 +55,27 @@ def push_survived(traj, impulse, pattern, state, gain):
     return not res.fell, float(res.fall_time)
 
 
-def push_bisection(pattern, state, gain, lo=0.0, hi=48.0, tol=0.5):
+def push_bisection(pattern, state, gain, lo=0.0, hi=48.0, tol=0.5, cap=192.0):
     """Largest impulse (N s) survived on g1-push-recovery (pushes at mid-stance of running steps 4 and
-    8), by bisection in [lo, hi] to ``tol``: ``lo`` is assumed survived; ``hi`` is checked first."""
+    8), by bisection in [lo, hi] to ``tol``: ``lo`` is assumed survived; ``hi`` is checked first and
+    doubled while it is survived (up to ``cap``, then reported as a lower bound)."""
     traj = gaitshift.plan(load_scenario("g1-push-recovery"))
     rows = []
-    ok, _ = push_survived(traj, hi, pattern, state, gain)
-    if ok:
-        return rows, hi
+
+    def probe(j):
+        t0 = time.perf_counter()
+        ok, fall = push_survived(traj, j, pattern, state, gain)
+        rows.append({"impulse_Ns": j, "fell": not ok, "fall_time": fall, "wall_s": time.perf_counter() - t0})
+        print(f"  {pattern:8s} {state:9s} gain {gain:g}: {j:6.2f} N s {'ok' if ok else 'FELL'}", flush=True)
+        return ok
+
+    while probe(hi):
+        if hi >= cap:
+            return rows, hi
+        lo, hi = hi, 2.0 * hi
     while hi - lo > tol:
         mid = 0.5 * (lo + hi)
-        t0 = time.perf_counter()
-        ok, fall = push_survived(traj, mid, pattern, state, gain)
-        rows.append({"impulse_Ns": mid, "fell": not ok, "fall_time": fall, "wall_s": time.perf_counter() - t0})
-        lo, hi = (mid, hi) if ok else (lo, mid)
-        print(f"  {pattern:8s} {state:9s} gain {gain:g}: {mid:6.2f} N s {'ok' if ok else 'FELL'}", flush=True)
+        lo, hi = (mid, hi) if probe(mid) else (lo, mid)
     return rows, lo
 
 
