@@ -1,15 +1,18 @@
-"""Measure the G1's closed-loop limits in MuJoCo (issues 5, 17): largest lateral push, top speed, and
-the sensing targets, each with the estimated and the oracle state side by side.
+"""Measure the G1's closed-loop limits in MuJoCo (issues 5, 13, 17): largest pushes while running, top
+speed, and the sensing targets, each with the estimated and the oracle state side by side.
 
-    .venv/bin/python benchmarks/sim_limits.py [--pushes 10 11 12 13 14 15] [--strides 0.50 0.55 0.60]
-        [--states estimated oracle] [--sensing] [--only-sensing]
+    .venv/bin/python benchmarks/sim_limits.py [--patterns lateral forward backward] [--gains 1 0]
+        [--strides 0.50 0.55 0.60] [--no-speed] [--states estimated oracle] [--sensing] [--only-sensing]
 
 ``--sensing`` adds the rows of issue 17 (docs/estimation.md): every shipped G1 scenario at default
 settings; the estimation errors on g1-walk-run-walk; floor friction 0.35 with the controller not told;
 a 4-tick latency (with and without prediction); the largest ``rl-peer`` noise scale held, by bisection.
 
-* Push: ``g1-push-recovery`` with a lateral impulse (N s) at mid-stance of steps 4 (+y) and 8 (-y);
-  the largest impulse survived without a fall is reported.
+* Push: ``g1-push-recovery`` (12 running steps) with impulses (N s, 0.1 s) at mid-stance (single
+  support) of running steps 4 and 8: ``lateral`` +y then -y, ``forward`` +x twice, ``backward`` -x
+  twice; the largest impulse survived without a fall is found by bisection (0.5 N s; the upper end
+  starts at 48 N s and doubles while survived), with the step adjustment
+  (:mod:`gaitshift.control.feedback`) at its default gain (1) and off (gain 0).
 * Top speed: ``g1-top-speed`` with the constant stride swept; for each stride the planned speed is
   stride / (tau_SS + tau_F), and the measured mean forward CoM speed over the constant-stride steps is
   reported; the top speed is the fastest plan held for all 10 constant steps without a fall.
@@ -22,6 +25,7 @@ import argparse
 import json
 import os
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -33,28 +37,58 @@ import yaml
 import gaitshift
 from gaitshift.api import robot_facts
 from gaitshift.control.drivers import driver_for
+from gaitshift.control.feedback import CaptureSettings
 from gaitshift.scenario.loader import builtin_names, builtin_text, load_scenario
 from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.pushes import mid_stance_pushes
 
 
-def push_sweep(impulses, state="oracle"):
+def push_survived(traj, impulse, pattern, state, gain):
+    """One run of ``traj`` with mid-stance pushes of ``impulse`` N s (``pattern`` of
+    :data:`gaitshift.sim.pushes.PATTERNS`) and the step adjustment gain ``gain`` (0: off)."""
+    opts = SimOptions(
+        pushes=mid_stance_pushes(traj, impulse, pattern=pattern),
+        state=state,
+        capture=replace(CaptureSettings(), gain=gain),
+    )
+    res = simulate(traj, opts)
+    return not res.fell, float(res.fall_time)
+
+
+def push_bisection(pattern, state, gain, lo=0.0, hi=48.0, tol=0.5, cap=192.0):
+    """Largest impulse (N s) survived on g1-push-recovery (pushes at mid-stance of running steps 4 and
+    8), by bisection in [lo, hi] to ``tol``: ``lo`` is assumed survived; ``hi`` is checked first and
+    doubled while it is survived (up to ``cap``, then reported as a lower bound)."""
     traj = gaitshift.plan(load_scenario("g1-push-recovery"))
     rows = []
-    for j in impulses:
+
+    def probe(j):
         t0 = time.perf_counter()
-        res = simulate(traj, SimOptions(pushes=mid_stance_pushes(traj, j), state=state))
-        rows.append(
-            {
-                "impulse_Ns": j,
-                "fell": bool(res.fell),
-                "fall_time": float(res.fall_time),
-                "wall_s": time.perf_counter() - t0,
-            }
-        )
-        print(f"push {j:5.1f} N s: {f'FELL at {res.fall_time:.2f} s' if res.fell else 'survived'}", flush=True)
-    ok = [r["impulse_Ns"] for r in rows if not r["fell"]]
-    return rows, (max(ok) if ok else None)
+        ok, fall = push_survived(traj, j, pattern, state, gain)
+        rows.append({"impulse_Ns": j, "fell": not ok, "fall_time": fall, "wall_s": time.perf_counter() - t0})
+        print(f"  {pattern:8s} {state:9s} gain {gain:g}: {j:6.2f} N s {'ok' if ok else 'FELL'}", flush=True)
+        return ok
+
+    while probe(hi):
+        if hi >= cap:
+            return rows, hi
+        lo, hi = hi, 2.0 * hi
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if probe(mid) else (lo, mid)
+    return rows, lo
+
+
+def push_table(states, gains, patterns=("lateral", "forward", "backward")):
+    """Largest push survived while running, per direction, state source and step adjustment gain."""
+    out = []
+    for pattern in patterns:
+        for state in states:
+            for gain in gains:
+                rows, best = push_bisection(pattern, state, gain)
+                out.append({"pattern": pattern, "state": state, "gain": gain, "largest_Ns": best, "runs": rows})
+                print(f"{pattern:8s} {state:9s} step adjustment gain {gain:g}: largest {best:.2f} N s", flush=True)
+    return out
 
 
 def speed_sweep(strides, state="oracle"):
@@ -149,7 +183,9 @@ def sensing_rows(states):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--pushes", type=float, nargs="*", default=[10, 11, 12, 13, 14, 15])
+    ap.add_argument("--patterns", nargs="*", default=["lateral", "forward", "backward"])
+    ap.add_argument("--gains", type=float, nargs="*", default=[1.0, 0.0], help="step adjustment gains (0: off)")
+    ap.add_argument("--no-speed", action="store_true", help="skip the top-speed sweep")
     ap.add_argument("--strides", type=float, nargs="*", default=[0.50, 0.55, 0.60])
     ap.add_argument("--states", nargs="*", default=["estimated", "oracle"])
     ap.add_argument("--sensing", action="store_true", help="also measure issue 17's sensing rows")
@@ -158,12 +194,11 @@ def main() -> None:
     args = ap.parse_args()
     out = {}
     if not args.only_sensing:
-        for state in args.states:
-            push_rows, push_max = push_sweep(args.pushes, state)
+        out["pushes"] = push_table(args.states, args.gains, args.patterns)
+        for state in [] if args.no_speed else args.states:
             speed_rows, top = speed_sweep(args.strides, state)
-            out[state] = {"pushes": push_rows, "largest_push_survived_Ns": push_max, "speeds": speed_rows}
-            out[state]["top_speed_held_m_s"] = top
-            print(f"{state}: largest push survived {push_max} N s; top speed held for 10 steps {top} m/s")
+            out[state] = {"speeds": speed_rows, "top_speed_held_m_s": top}
+            print(f"{state}: top speed held for 10 steps {top} m/s")
     if args.sensing or args.only_sensing:
         out["sensing"] = sensing_rows(args.states)
     args.out.write_text(json.dumps(out, indent=2, default=str))

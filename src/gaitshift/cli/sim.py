@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import typer
 
 from gaitshift.cli.app import app, out_file
@@ -20,7 +21,21 @@ def simulate_cmd(
     out: Path = typer.Option(..., "--out", help="Simulation log (.npz)."),
     video: Path | None = typer.Option(None, "--video", help="Write an MP4 video (needs MUJOCO_GL=egl)."),
     viewer: bool = typer.Option(False, "--viewer", help="Open the MuJoCo viewer (needs a display)."),
-    push: float = typer.Option(0.0, "--push", help="Lateral impulse, N s, at mid-stance of steps 4 and 8."),
+    push: list[str] = typer.Option(
+        [],
+        "--push",
+        help="Push (repeatable): J = lateral impulses of J N s at mid-stance of steps 4 (+y) and 8 (-y); or"
+        " T,JX,JY[,JZ[,DURATION]] = impulse (N s, world frame) from plan time T s over DURATION s (0.1).",
+    ),
+    bump: list[str] = typer.Option(
+        [], "--bump", help="Bump on the floor (repeatable): X,HEIGHT[,LENGTH] m (box from X to X+LENGTH; 0.2)."
+    ),
+    mass_scale: float | None = typer.Option(
+        None, "--mass-scale", help="Factor on the simulated robot's masses; the controller keeps the nominal (1)."
+    ),
+    joint_vel_noise: float | None = typer.Option(
+        None, "--joint-vel-noise", help="Extra uniform joint-velocity sensor noise, rad/s half-width (0)."
+    ),
     figures: Path | None = typer.Option(None, "--figures", help="Folder for the figures (PNG)."),
     control_period: float = typer.Option(0.002, "--control-period", help="Control period = time step, s."),
     as_json: bool = typer.Option(False, "--json", help="Print the metrics as JSON (alone on stdout)."),
@@ -32,7 +47,9 @@ def simulate_cmd(
     ),
     noise: str | None = typer.Option(None, "--noise", help="Sensor noise: none, typical (default) or rl-peer."),
     noise_scale: float | None = typer.Option(None, "--noise-scale", help="Factor on every sensor noise (1)."),
-    latency: int | None = typer.Option(None, "--latency", help="Loop latency, ticks (sensing + actuation; 0)."),
+    latency: int | None = typer.Option(
+        None, "--latency", help="Loop latency = actuation delay, ticks (sensing + actuation, one setting; 0)."
+    ),
     friction: float | None = typer.Option(None, "--friction", help="The floor's friction coefficient."),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
     rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
@@ -51,10 +68,11 @@ def simulate_cmd(
     from gaitshift.robots import load_robot
     from gaitshift.scenario import load_scenario
     from gaitshift.sim.loop import SimOptions, simulate
-    from gaitshift.sim.pushes import mid_stance_pushes
 
-    sensing = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency, "friction": friction}
-    flags = sensing_flags(out, video, push, rerun, seed=seed, video_size=video_size, video_fps=video_fps, **sensing)
+    sensing: dict[str, Any] = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency}
+    sensing |= {"friction": friction, "mass_scale": mass_scale, "joint_vel_noise": joint_vel_noise}
+    flags = sensing_flags(out, video, None, rerun, seed=seed, video_size=video_size, video_fps=video_fps, **sensing)
+    pushes_given, bumps = perturbation_flags(push, bump)
     sc, robot_name = with_robot(load_scenario(scenario), robot)
     cfg = load_robot(robot_name)
     replanner = driver_for(sc, robot_facts(sc), control_period)
@@ -63,10 +81,11 @@ def simulate_cmd(
         from gaitshift.wholebody.checks import check_joint_speeds
 
         check_joint_speeds(cfg, traj)
-    pushes = mid_stance_pushes(traj, push) if push > 0 else ()
-    sensing = sc.sim.given() | flags
+    given = from_scenario(sc.sim.given()) | flags | ({"bumps": bumps} if bumps else {})
+    scenario_pushes = given.pop("pushes", ())
+    pushes = pushes_on(traj, pushes_given) if push else scenario_pushes  # --push replaces the scenario's
     opts = SimOptions(
-        control_period=control_period, pushes=pushes, video=str(video) if video else None, viewer=viewer, **sensing
+        control_period=control_period, pushes=pushes, video=str(video) if video else None, viewer=viewer, **given
     )
     live = replanner.trajectory if replanner else traj
     with web_view(web, web_port, lambda: replanner.trajectory if replanner else live, as_json, realtime=True) as views:
@@ -112,8 +131,50 @@ def report(result: Any, traj: Any, cfg: Any, replanner: Any, files: ReportFiles,
         raise typer.Exit(1)
 
 
+def perturbation_flags(push: list[str], bump: list[str]) -> tuple[list[Any], tuple[Any, ...]]:
+    """The parsed ``--push`` values (:func:`gaitshift.sim.pushes.parse_push`: a Push, or the legacy
+    lateral impulse as a float) and ``--bump`` values (:class:`gaitshift.sim.bumps.Bump`)."""
+    from gaitshift.sim.bumps import parse_bump
+    from gaitshift.sim.pushes import parse_push
+
+    return [parse_push(p) for p in push], tuple(parse_bump(b) for b in bump)
+
+
+def from_scenario(given: dict[str, Any]) -> dict[str, Any]:
+    """The scenario's ``sim:`` keys (:meth:`SimSettings.given`) with its ``pushes`` and ``bumps`` as
+    :class:`~gaitshift.sim.pushes.Push` and :class:`~gaitshift.sim.bumps.Bump` tuples."""
+    from gaitshift.sim.bumps import Bump
+    from gaitshift.sim.pushes import Push
+
+    out = dict(given)
+    if "pushes" in out:
+        out["pushes"] = tuple(
+            Push(
+                t=p["t"],
+                impulse=float(np.linalg.norm(p["impulse"])),
+                duration=p["duration"],
+                direction=tuple(p["impulse"]),
+            )
+            for p in out["pushes"]
+        )
+    if "bumps" in out:
+        out["bumps"] = tuple(Bump(**b) for b in out["bumps"])
+    return out
+
+
+def pushes_on(traj: Any, given: list[Any]) -> tuple[Any, ...]:
+    """The pushes of the ``--push`` values on ``traj``: each legacy impulse J > 0 becomes the lateral
+    pushes at mid-stance of steps 4 and 8 (:func:`gaitshift.sim.pushes.mid_stance_pushes`)."""
+    from gaitshift.sim.pushes import Push, mid_stance_pushes
+
+    out: list[Any] = []
+    for p in given:
+        out.extend([p] if isinstance(p, Push) else mid_stance_pushes(traj, p) if p > 0 else [])
+    return tuple(out)
+
+
 def sensing_flags(
-    out: Path, video: Path | None, push: float, rerun: Path | None = None, **given: Any
+    out: Path, video: Path | None, push: float | None, rerun: Path | None = None, **given: Any
 ) -> dict[str, Any]:
     """Check ``simulate``'s file and push flags and return the given sensing flags as SimOptions fields.
 
@@ -123,7 +184,7 @@ def sensing_flags(
     out_file(out, "--out", (".npz",))
     if video is not None:
         out_file(video, "--video", (".mp4",))
-    if push < 0:
+    if push is not None and push < 0:
         raise InputError("--push", push, "an impulse >= 0 N s")
     if rerun is not None:
         from gaitshift.export.recording import check_rrd

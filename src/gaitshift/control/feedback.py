@@ -5,18 +5,32 @@ While a foot swings (until ``freeze_u`` of its swing) its target is moved by the
     delta = k_cp (xi - xi_ref),    xi = c + cd / omega,    omega = sqrt(g / h)
 
 (xi: the divergent component of motion, or instantaneous capture point, of the LIPM; h the plan's CoM
-height), horizontal, clipped to ``max_step_adjust`` per axis, with ``xi`` measured and ``xi_ref``
-that of the shifted plan. When the foot lands, the whole remaining plan (CoM reference and later
-footholds) is translated by its correction, blended in with the first-order lag
-``shift' = (target - shift) / shift_time`` (one explicit Euler step per tick): the plan is
-re-anchored on where the robot actually stands, as the LIPM is translation invariant.
+height), horizontal, with ``xi`` measured and ``xi_ref`` that of the shifted plan. With
+``predict_touchdown``, the error is the one predicted at the touchdown: on the other foot's stance the
+LIPM's divergent component moves away from its foothold as ``xi' = omega (xi - p)``, so an error grows
+as ``exp(omega tau)`` until that stance ends or the swing foot lands, ``tau`` = the shorter of the two
+times left (0 when the other foot is not on the ground):
+
+    delta = k_cp (xi - xi_ref) exp(omega tau). The corrected
+foothold is then kept inside the leg's kinematic limits (reach from the hip at touchdown, no crossing
+of the feet: :mod:`gaitshift.control.step_limits`, derived from the robot model) and, if
+``max_step_adjust`` is set, the correction is also clipped to it per axis. The correction is
+recomputed every tick until ``freeze_u``, so the swing foot re-targets mid-swing.
+
+When the foot lands, the whole remaining plan (CoM reference and later footholds) is translated by
+its correction, blended in with the first-order lag ``shift' = (target - shift) / shift_time`` (one
+explicit Euler step per tick): the plan is re-anchored on where the robot actually stands, as the LIPM
+is translation invariant.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from gaitshift.control.step_limits import StepLimits
 
 
 @dataclass(frozen=True)
@@ -27,7 +41,10 @@ class CaptureSettings:
     gain: float = 1.0
     freeze_u: float = 0.7  # swing progress after which the foothold correction is frozen
     shift_time: float = 0.1  # s: time constant of the plan shift after a corrected touchdown
-    max_step_adjust: float = 0.10  # m
+    max_step_adjust: float | None = None  # m per axis; None: the kinematic limits alone
+    kinematic_limits: bool = True  # reach and crossing limits (gaitshift.control.step_limits)
+    reach_fraction: float = 0.95  # share of the leg length the knee may straighten to (step_limits eq. 1)
+    predict_touchdown: bool = True  # the error predicted at the touchdown, exp(omega tau) (module docstring)
     anchor: bool = True  # estimated state: keep the plan on the measured stance soles (PlanShift.anchor_on)
 
 
@@ -50,6 +67,32 @@ def capture_point_offset(
     return out
 
 
+@dataclass(frozen=True)
+class SwingContext:
+    """What the limits of a swinging foot's correction need (:meth:`PlanShift.correct_swings`).
+
+    Attributes:
+        footholds: (2, 3) m, each foot's planned foothold of its current (or last) swing (unshifted).
+        measured: (2, 3) m, the sole positions as the controller sees them.
+        time_left: (2,) s, time to each foot's planned touchdown (>= 0).
+        yaw: heading of the plan now, rad.
+        stance_left: (2,) s, time to each stance foot's planned lift-off (>= 0; 0 for a swinging foot).
+    """
+
+    footholds: np.ndarray
+    measured: np.ndarray
+    time_left: np.ndarray
+    yaw: float
+    stance_left: np.ndarray | None = None
+
+    def growth_time(self, side: int, stance: np.ndarray) -> float:
+        """tau of the module docstring for the swinging foot ``side``, s."""
+        o = 1 - side
+        if self.stance_left is None or not stance[o]:
+            return 0.0
+        return float(max(0.0, min(self.time_left[side], self.stance_left[o])))
+
+
 class PlanShift:
     """State of the step feedback: the plan translation and the current foothold corrections.
 
@@ -59,9 +102,10 @@ class PlanShift:
         offset: (2, 3) m, correction of each swinging foot's target (0 for a stance foot).
     """
 
-    def __init__(self, settings: CaptureSettings, omega: float) -> None:
+    def __init__(self, settings: CaptureSettings, omega: float, limits: StepLimits | None = None) -> None:
         self.settings = settings
         self.omega = omega
+        self.limits = limits if settings.kinematic_limits else None
         self.shift = np.zeros(3)
         self.target = np.zeros(3)
         self.offset = np.zeros((2, 3))
@@ -104,18 +148,31 @@ class PlanShift:
         com_vel: np.ndarray,
         com_plan: np.ndarray,
         vel_plan: np.ndarray,
+        ctx: SwingContext | None = None,
     ) -> None:
         """Recompute the correction of each swinging foot before ``freeze_u`` of its swing.
 
         ``stance`` (2,) bool: feet in stance (left alone); ``progress`` (2,): swing progress u of each
         foot (:meth:`gaitshift.control.schedule.FootScheduler.swing_progress`). ``com``/``com_vel``
-        measured, ``com_plan``/``vel_plan`` the plan sample (unshifted), all (3,).
+        measured, ``com_plan``/``vel_plan`` the plan sample (unshifted), all (3,). With ``ctx`` and
+        limits, the corrected foothold is kept inside them (:meth:`StepLimits.clamp`).
         """
         cfg = self.settings
         if cfg.gain <= 0:
             return
+        clip = math.inf if cfg.max_step_adjust is None else cfg.max_step_adjust
         for s in (0, 1):
-            if not stance[s] and progress[s] < cfg.freeze_u:
-                self.offset[s] = capture_point_offset(
-                    com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain, cfg.max_step_adjust
-                )
+            if stance[s] or progress[s] >= cfg.freeze_u:
+                continue
+            gain = cfg.gain
+            if cfg.predict_touchdown and ctx is not None:
+                gain *= math.exp(self.omega * ctx.growth_time(s, stance))
+            delta = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, gain, clip)
+            if self.limits is not None and ctx is not None:
+                base = ctx.footholds[s] + self.shift
+                o = 1 - s
+                other = ctx.measured[o] if stance[o] else ctx.footholds[o] + self.shift + self.offset[o]
+                hip_com = com + ctx.time_left[s] * com_vel
+                delta = self.limits.clamp(s, base + delta, hip_com, ctx.yaw, other) - base
+                delta[2] = 0.0
+            self.offset[s] = delta

@@ -5,6 +5,14 @@ flag overrides the key. Example::
 
     sim: {state: estimated, noise: rl-peer, noise_scale: 0.5, latency: 4, friction: 0.35, seed: 3}
 
+Perturbations (issue 13; the controller is never told them)::
+
+    sim:
+      mass_scale: 1.1            # masses of the simulated robot only
+      joint_vel_noise: 0.5       # rad/s, extra uniform joint-velocity sensor noise
+      pushes: [{t: 2.0, impulse: [0, 15, 0], duration: 0.1}]   # N s, world frame, from plan time t
+      bumps: [{x: 1.5, height: 0.03, length: 0.2}]             # m, box on the floor from x
+
 The allowed values live here (the lowest layer) and the simulator checks its options against them.
 """
 
@@ -26,8 +34,28 @@ FRICTION_RANGE = (0.01, 5.0)
 NOISE_SCALE_RANGE = (0.0, 1000.0)
 #: loop latency, ticks, inclusive
 LATENCY_RANGE = (0, 50)
+#: mass scale factor of the simulated robot, inclusive (the simulator checks the same range)
+MASS_SCALE_RANGE = (0.25, 4.0)
 
 Friction = Annotated[float, Strict(), Field(ge=FRICTION_RANGE[0], le=FRICTION_RANGE[1], allow_inf_nan=False)]
+
+
+class PushSettings(StrictModel):
+    """One push: ``impulse`` (2 or 3 components, N s, world frame) over ``duration`` s from plan time ``t``."""
+
+    t: Annotated[float, Strict(), Field(ge=0, le=1e4, allow_inf_nan=False)]
+    impulse: list[Annotated[float, Strict(), Field(ge=-1000, le=1000, allow_inf_nan=False)]] = Field(
+        min_length=2, max_length=3
+    )
+    duration: Annotated[float, Strict(), Field(gt=0, le=10, allow_inf_nan=False)] = 0.1
+
+
+class BumpSettings(StrictModel):
+    """One bump: a box ``height`` m high from ``x`` to ``x + length`` m along x."""
+
+    x: Annotated[float, Strict(), Field(ge=-1e4, le=1e4, allow_inf_nan=False)]
+    height: Annotated[float, Strict(), Field(gt=0, le=0.5, allow_inf_nan=False)]
+    length: Annotated[float, Strict(), Field(gt=0, le=10, allow_inf_nan=False)] = 0.2
 
 
 class SimSettings(StrictModel):
@@ -42,7 +70,14 @@ class SimSettings(StrictModel):
     friction: Friction | None = None
     assumed_friction: Friction | None = None
     seed: Annotated[int, Strict(), Field(ge=0, le=2**32 - 1)] | None = None
+    mass_scale: (
+        Annotated[float, Strict(), Field(ge=MASS_SCALE_RANGE[0], le=MASS_SCALE_RANGE[1], allow_inf_nan=False)] | None
+    ) = None
+    joint_vel_noise: Annotated[float, Strict(), Field(ge=0, le=100, allow_inf_nan=False)] | None = None
+    pushes: list[PushSettings] | None = None
+    bumps: list[BumpSettings] | None = None
 
     def given(self) -> dict[str, Any]:
-        """The keys set in the scenario, as ``SimOptions`` keyword arguments."""
+        """The keys set in the scenario, as ``SimOptions`` keyword arguments (``pushes`` and ``bumps``
+        as lists of plain dicts: the simulator turns them into its own objects)."""
         return {k: v for k, v in self.model_dump().items() if v is not None}

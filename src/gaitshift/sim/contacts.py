@@ -1,10 +1,10 @@
 """Foot contacts and ground reaction forces read from MuJoCo, and the fall test.
 
-Contacts with the ground (the floor and the terrain boxes, ``Plant.ground_geoms``) are sorted by the
-robot geom involved: a sole sphere marks its foot as touching and adds its contact force
-(``mj_contactForce``, rotated from the contact frame to the world frame, sign chosen so that it is the
-force of the ground on the foot) to that foot's ground reaction force; any other geom on the ground is
-a fall. The robot has also fallen when its pelvis is below
+Contacts with the ground (``Plant.ground_geoms``: the floor, the terrain boxes and the bumps of
+:mod:`gaitshift.sim.bumps`) are sorted by the robot geom involved: a sole sphere marks its foot as
+touching and adds its contact force (``mj_contactForce``, rotated from the contact frame to the world
+frame, sign chosen so that it is the force of the ground on the foot) to that foot's ground reaction
+force; any other geom on the ground is a fall. The robot has also fallen when its pelvis is below
 :data:`FALL_HEIGHT_FRACTION` of its initial height.
 """
 

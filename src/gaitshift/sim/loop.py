@@ -34,20 +34,22 @@ import mujoco
 import numpy as np
 
 from gaitshift.control.drivers import PlanDriver
-from gaitshift.control.feedback import CaptureSettings, PlanShift
+from gaitshift.control.feedback import CaptureSettings, PlanShift, SwingContext
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.control.reference import SwingSettings, tick_reference
 from gaitshift.control.schedule import FootScheduler, ScheduleSettings
+from gaitshift.control.step_limits import StepLimits
 from gaitshift.control.wbc import WholeBodyController
 from gaitshift.control.wbc_data import Gains, gains_for
 from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig
+from gaitshift.sim.bumps import Bump, check_bumps
 from gaitshift.sim.contacts import ContactSensor, fall_reason
 from gaitshift.sim.estimation_metrics import sensing_metrics
 from gaitshift.sim.initial_pose import initial_qpos
 from gaitshift.sim.log import TickLog
 from gaitshift.sim.metrics import summarize
-from gaitshift.sim.perturb import check_mass_scale, scaled_masses
+from gaitshift.sim.perturb import check_joint_vel_noise, check_mass_scale, scaled_masses
 from gaitshift.sim.plant import Plant, build_plant
 from gaitshift.sim.pushes import Push, push_forces
 from gaitshift.sim.result import SimResult
@@ -81,6 +83,13 @@ class SimOptions:
         estimator: base filter of the state estimator; seed: seed of every random draw of the run.
         mass_scale: factor on the masses and inertias of the simulated robot only; the controller keeps
             the nominal model (:mod:`gaitshift.sim.perturb`).
+        joint_vel_noise: extra uniform noise on the joint velocities the drivers report, rad/s
+            half-width (:mod:`gaitshift.sim.perturb`; estimated state only).
+        bumps: boxes on the floor of the simulated world only (:mod:`gaitshift.sim.bumps`; ignored
+            when ``simulate`` is given a ``plant``).
+
+    The actuation delay is ``latency``: one setting for the sensing-to-actuation delay of the loop
+    (:mod:`gaitshift.sim.latency`), not a second one.
     """
 
     control_period: float = 0.002
@@ -105,11 +114,15 @@ class SimOptions:
     estimator: str = "inekf"
     seed: int = 0
     mass_scale: float = 1.0
+    joint_vel_noise: float = 0.0
+    bumps: tuple[Bump, ...] = ()
 
     def __post_init__(self) -> None:
         check_sensing_options(self)
         check_video(self.video_size, self.video_fps)
         check_mass_scale(self.mass_scale)
+        check_joint_vel_noise(self.joint_vel_noise)
+        check_bumps(self.bumps)
 
 
 class _Run:
@@ -138,7 +151,8 @@ class _Run:
         self.ctrl = WholeBodyController(plant, q0, gains)
         self.sched = FootScheduler(traj, self.plan, opts.schedule, plant.mass * 9.81)
         height = float(traj.meta.get("height", traj.com_pos[0, 2]))
-        self.shift = PlanShift(opts.capture, math.sqrt(traj.gravity / height))
+        limits = StepLimits.from_plant(plant, height, opts.capture.reach_fraction)
+        self.shift = PlanShift(opts.capture, math.sqrt(traj.gravity / height), limits)
         self.sensor = ContactSensor(plant)
         end = replanner.duration_bound if replanner is not None else float(traj.t[-1])
         self.n_ticks = round((end + opts.settle) / self.dt) + 1
@@ -167,11 +181,14 @@ class _Run:
         if tp > 0 or self.opts.settle == 0:
             sched.update(tp, i, view.touching)
         shift.land(was_swing & sched.stance)
+        measured, planned = self.footholds(view)
         if self.opts.capture.anchor and not self.sensing.oracle:  # the truth has no drift to absorb
-            shift.anchor_on(sched.stance & ~view.slip, *self.footholds(view))
+            shift.anchor_on(sched.stance & ~view.slip, measured, planned)
         shift.blend(self.dt)
         progress = np.array([sched.swing_progress(tp, s) for s in (0, 1)])
-        shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i])
+        left = np.maximum(sched.swing_end - tp, 0.0), float(self.plan.heading[i])
+        ctx = SwingContext(planned, measured, *left, np.where(sched.stance, np.maximum(sched.lift_at - tp, 0.0), 0.0))
+        shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i], ctx)
         ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.opts.swing)
         self.ctrl.gains = self.sensing.friction(self.ctrl.gains, view)
         tau, info = self.ctrl.compute(c, ref)
@@ -254,6 +271,9 @@ class _Run:
             "torque_limit": self.plant.torque_limit.tolist(),
             "pelvis_height0": self.pelvis0,
             "pushes": [asdict(p) for p in self.opts.pushes],
+            "bumps": [asdict(b) for b in self.opts.bumps],
+            "mass_scale": self.opts.mass_scale,
+            "joint_vel_noise": self.opts.joint_vel_noise,
             "settle": self.opts.settle,
             "replans": self.replanner.replans if self.replanner is not None else 0,
             "sensing": {
@@ -291,7 +311,7 @@ def simulate(
         if not replanner.step_feedback:
             opts = replace(opts, capture=replace(opts.capture, gain=0.0, anchor=False))
     terrain = Terrain.from_list(traj.meta.get("terrain"))  # the plan's ground, built into the scene
-    plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain), opts.friction)
+    plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain, opts.bumps), opts.friction)
     run = _Run(traj, opts, plant, replanner, hooks)
     run.sense_hooks = tuple(sense_hooks)
     try:

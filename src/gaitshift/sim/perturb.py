@@ -1,24 +1,38 @@
-"""Model errors of the simulated robot: the plant's masses scaled while the controller keeps the nominal
-model (``SimOptions.mass_scale``).
+"""Model and sensor errors of the simulated robot: the plant's masses scaled while the controller keeps
+the nominal model (``SimOptions.mass_scale``), and extra joint-velocity noise (``joint_vel_noise``).
 
 With scale ``s``, every body's mass ``m_b`` and rotational inertia ``I_b`` (about its own frame) become
 ``s m_b`` and ``s I_b`` in the PHYSICS model only (a uniform change of density: the CoM positions stay),
 so the whole-body controller, which plans its torques with the nominal model, meets a robot ``s`` times
 heavier (``s > 1``) or lighter (``s < 1``) than it believes. Total mass: ``s M``.
+
+Joint-velocity noise ``u`` (rad/s): every joint velocity the motor drivers report gets an extra
+independent draw ``U(-u, u)`` per tick, on top of the noise profile's own (the form of the ``rl-peer``
+profile's +-1.5 rad/s); it acts on the estimated state only (the oracle reads the truth).
 """
 
 from __future__ import annotations
 
 import copy
 import math
+from dataclasses import replace
 from typing import Any
 
+from gaitshift.control.estimation.noise import Channel, NoiseProfile
 from gaitshift.errors import InputError
+from gaitshift.scenario.sim_settings import MASS_SCALE_RANGE
 
-#: allowed mass scale factors, inclusive
-MASS_SCALE_RANGE = (0.25, 4.0)
+#: allowed extra joint-velocity noise, rad/s (half-width of the uniform draw), inclusive
+JOINT_VEL_NOISE_RANGE = (0.0, 100.0)
 
-__all__ = ["MASS_SCALE_RANGE", "check_mass_scale", "scaled_masses"]
+__all__ = [
+    "JOINT_VEL_NOISE_RANGE",
+    "MASS_SCALE_RANGE",
+    "check_joint_vel_noise",
+    "check_mass_scale",
+    "scaled_masses",
+    "with_joint_vel_noise",
+]
 
 
 def check_mass_scale(scale: object) -> float:
@@ -43,3 +57,21 @@ def scaled_masses(model: Any, scale: float) -> Any:
     out.body_mass[:] = model.body_mass * scale
     out.body_inertia[:] = model.body_inertia * scale
     return out
+
+
+def check_joint_vel_noise(noise: object) -> float:
+    """``noise`` as a float in :data:`JOINT_VEL_NOISE_RANGE` (rad/s), else :class:`InputError`."""
+    lo, hi = JOINT_VEL_NOISE_RANGE
+    ok = isinstance(noise, int | float) and not isinstance(noise, bool) and math.isfinite(noise)
+    if not ok or not lo <= float(noise) <= hi:  # type: ignore[arg-type]
+        raise InputError("joint_vel_noise", noise, f"a number in [{lo:g}, {hi:g}] rad/s")
+    return float(noise)  # type: ignore[arg-type]
+
+
+def with_joint_vel_noise(profile: NoiseProfile, noise: float) -> NoiseProfile:
+    """``profile`` with ``noise`` rad/s more uniform half-width on the driver velocity (module
+    docstring); ``profile`` itself when ``noise`` is 0."""
+    if noise == 0.0:
+        return profile
+    jv = profile.joint_vel
+    return replace(profile, joint_vel=Channel(density=jv.density, uniform=jv.uniform + float(noise)))

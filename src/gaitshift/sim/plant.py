@@ -10,6 +10,7 @@ docs/simulation.md and docs/robots.md:
   (``RobotConfig.torque_limit``: ``actuatorfrcrange``, else the force or control range of its motor);
 * a floor plane (``floor``, the MJCF's default geom class) when the MJCF has no plane in its world body;
 * the plan's terrain, one box per piece with the floor's contact parameters (:mod:`gaitshift.sim.terrain_geoms`);
+* the bumps asked for (``SimOptions.bumps``, :mod:`gaitshift.sim.bumps`): boxes on the floor;
 * foot geoms whose collisions are all off (a model that collides through ``<pair>`` elements of a
   scene file, e.g. Apollo) get ``contype = conaffinity = 1`` (:func:`gaitshift.robots.soles.contact_geoms`);
 * the time step is the control period (default 2 ms; the controller computes torques once per physics
@@ -34,8 +35,9 @@ from gaitshift.models.terrain import FLAT, Terrain
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.robots.mjcf import raw_model
 from gaitshift.robots.soles import contact_geoms
+from gaitshift.sim.bumps import Bump, add_bumps
 from gaitshift.sim.sensor_spec import add_sole_touch_sensors
-from gaitshift.sim.terrain_geoms import TERRAIN_PREFIX, add_terrain
+from gaitshift.sim.terrain_geoms import add_terrain
 
 #: name of the floor geom added to an MJCF that has none
 FLOOR = "floor"
@@ -68,7 +70,7 @@ class Plant:
         torque_limit: (nu,) N m, the motor ctrlrange upper bound (symmetric).
         actuated_dofs: (nu,) dof index of each motor (qvel/qacc index).
         floor_geom: geom id of the floor plane.
-        ground_geoms: geom ids of the ground the feet stand on: the floor, then the terrain boxes.
+        ground_geoms: geom ids of the ground the feet stand on: the floor, then the terrain boxes and the bumps.
         torso_body: body id of the config's torso; pelvis_body: body id of the floating base.
         mass: total mass, kg.
         robot: the robot config the model comes from.
@@ -103,21 +105,25 @@ class Plant:
 
 
 def build_plant(
-    control_period: float = 0.002, robot: str | Path | RobotConfig = "g1", terrain: Terrain = FLAT
+    control_period: float = 0.002,
+    robot: str | Path | RobotConfig = "g1",
+    terrain: Terrain = FLAT,
+    bumps: tuple[Bump, ...] = (),
 ) -> Plant:
-    """Compile ``robot`` with torque motors, a floor and ``terrain`` (see module docstring).
+    """Compile ``robot`` with torque motors, a floor, ``terrain`` and ``bumps`` (see module docstring).
 
     Args:
         control_period: physics time step = control period, s, in [0.001, 0.002].
         robot: built-in name, robot YAML path or config.
         terrain: the ground on the floor (default: none).
+        bumps: boxes on the floor (:mod:`gaitshift.sim.bumps`).
 
     Raises:
         InputError: bad period, or a hinge joint without a torque limit in the model.
     """
     if not (0.001 <= control_period <= 0.002):
         raise InputError("control_period", control_period, "a period in [0.001, 0.002] s")
-    return _build(round(control_period, 6), load_robot(robot), terrain)
+    return _build(round(control_period, 6), load_robot(robot), terrain, tuple(bumps))
 
 
 def _torque_motors(spec: mujoco.MjSpec, robot: RobotConfig) -> None:
@@ -174,12 +180,13 @@ def _feet_collide(spec: mujoco.MjSpec, robot: RobotConfig) -> None:
 
 
 @lru_cache(maxsize=8)
-def _build(dt: float, robot: RobotConfig, terrain: Terrain) -> Plant:
+def _build(dt: float, robot: RobotConfig, terrain: Terrain, bumps: tuple[Bump, ...] = ()) -> Plant:
     spec = mujoco.MjSpec.from_file(str(robot.mjcf))
     robot.add_sole_sites(spec)
     _torque_motors(spec, robot)
     _floor(spec)
     add_terrain(spec, terrain)
+    add_bumps(spec, bumps)
     _feet_collide(spec, robot)
     add_sole_touch_sensors(spec, robot.sole_bodies)  # sensing hook (sim/sensor_spec.py)
     spec.option.timestep = dt
@@ -192,7 +199,7 @@ def _build(dt: float, robot: RobotConfig, terrain: Terrain) -> Plant:
         geoms, _ = contact_geoms(model, bid)
         soles.append(SolePoints(int(bid), geoms, geo.centre.copy(), geo.rotation.copy(), geo.points.copy()))
     planes = np.flatnonzero((model.geom_bodyid == 0) & (model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE))
-    boxes = [i for i in range(model.ngeom) if (model.geom(i).name or "").startswith(TERRAIN_PREFIX)]
+    boxes = [i for i in np.flatnonzero(model.geom_bodyid == 0) if i != planes[0]]  # terrain and bumps
     return Plant(
         model=model,
         soles=(soles[0], soles[1]),
@@ -203,7 +210,7 @@ def _build(dt: float, robot: RobotConfig, terrain: Terrain) -> Plant:
         pelvis_body=int(model.jnt_bodyid[0]),
         mass=float(model.body_subtreemass[0]),
         robot=robot,
-        ground_geoms=(int(planes[0]), *boxes),
+        ground_geoms=(int(planes[0]), *(int(i) for i in boxes)),
     )
 
 

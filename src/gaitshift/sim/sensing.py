@@ -41,6 +41,7 @@ from gaitshift.errors import InputError
 from gaitshift.scenario.sim_settings import FRICTION_RANGE, NOISE_PROFILES, NOISE_SCALE_RANGE, STATE_SOURCES
 from gaitshift.sim.contacts import FootContacts
 from gaitshift.sim.latency import CommandPipe
+from gaitshift.sim.perturb import with_joint_vel_noise
 from gaitshift.sim.sensors import SensorModel
 
 #: friction coefficient the controller assumes unless told: conservative against rubber soles on a dry
@@ -90,13 +91,13 @@ def check_sensing_options(opts: Any) -> None:
 
 
 def with_floor_friction(plant: Any, mu: float | None) -> Any:
-    """The plant with a copy of its model whose floor sets the contact friction to ``mu`` (sliding;
+    """The plant with a copy of its model whose floor (and bumps) set the contact friction to ``mu`` (sliding;
     MuJoCo uses the friction of the geom of higher ``priority``, so the floor gets priority 1), or the
     plant itself when ``mu`` is None."""
     if mu is None:
         return plant
     model = copy.copy(plant.model)
-    ground = list(getattr(plant, "ground_geoms", ()) or (plant.floor_geom,))  # the floor and the terrain
+    ground = list(getattr(plant, "ground_geoms", ()) or (plant.floor_geom,))  # the floor, the terrain and the bumps
     model.geom_priority[ground] = int(model.geom_priority.max()) + 1
     model.geom_friction[ground, 0] = float(mu)
     return replace(plant, model=model)
@@ -167,7 +168,8 @@ class Sensing:
             self._slip_prev = np.zeros(2, bool)
             self._true_slip = _TrueSlip(plant)
             return
-        self.sensors = SensorModel(m, profile, opts.seed, IMU_SITE)
+        # the extra joint-velocity noise reaches the sensors only: the estimator is tuned to the profile
+        self.sensors = SensorModel(m, with_joint_vel_noise(profile, opts.joint_vel_noise), opts.seed, IMU_SITE)
         on, off = noise_thresholds(profile.force, CONTACT_WINDOW)
         self.estimator = StateEstimator.from_robot(
             plant.robot,

@@ -1,0 +1,86 @@
+"""Kinematic limits of a re-chosen foothold: the leg's reach from its hip, and no crossing of the feet.
+
+A foothold ``p`` of leg ``s`` (horizontal, m) chosen by the step adjustment
+(:mod:`gaitshift.control.feedback`) is kept where the leg can put it at touchdown:
+
+* **reach**: inside the disc of radius ``r`` around the hip's ground projection at touchdown,
+
+  .. math:: r = \\sqrt{(\\rho L)^2 - z_{hip}^2},\\qquad z_{hip} = h - (h_0 - z_{hip,0}),          (1)
+
+  with ``L`` the robot's leg length (hip-pitch axis to sole, leg straight: ``RobotConfig.leg_length``),
+  ``rho`` < 1 the share of it the knee may straighten to (``CaptureSettings.reach_fraction``: a
+  straight knee is a singularity), ``h`` the plan's CoM height, and ``h_0`` / ``z_{hip,0}`` the CoM
+  and hip-pitch-axis heights above the soles in the robot's standing pose (the hip sits
+  ``h_0 - z_{hip,0}`` below the CoM). The hip at touchdown is predicted to first order from the
+  measured CoM, ``c + T cd`` (``T`` the time left to the planned touchdown), plus the hip's lateral
+  offset ``+-w_hip`` from the CoM in the standing pose, turned by the heading yaw;
+* **no crossing**: in the heading frame, the lateral distance of the foothold from the other foot
+  (on the ground: measured; swinging: its own adjusted foothold) is at least the sole width, on the
+  foot's own side (left foot to the left).
+
+Every number comes from the robot's model and YAML (:meth:`StepLimits.from_plant`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+import numpy as np
+
+__all__ = ["StepLimits"]
+
+
+@dataclass(frozen=True)
+class StepLimits:
+    """Reach and crossing limits of one run (module docstring).
+
+    Attributes:
+        reach: r of eq. (1), m (horizontal, hip to sole centre).
+        hip_offset: lateral distance from the CoM to each hip-pitch axis when standing, m.
+        min_width: smallest lateral distance between the two sole centres (the sole width), m.
+    """
+
+    reach: float
+    hip_offset: float
+    min_width: float
+
+    @classmethod
+    def from_plant(cls, plant: Any, height: float, reach_fraction: float) -> StepLimits:
+        """The limits of ``plant`` (a :class:`gaitshift.sim.plant.Plant`; its robot config and model in
+        the standing pose) for a plan of CoM height ``height`` (m), eq. (1)."""
+        robot, m = plant.robot, plant.model
+        d = mujoco.MjData(m)
+        d.qpos[:] = robot.standing_qpos(m)
+        d.qpos[3:7] = (1.0, 0.0, 0.0, 0.0)
+        mujoco.mj_forward(m, d)
+        hips = np.array([d.xanchor[m.joint(h).id] for h in robot.hips])
+        com = d.subtree_com[0]
+        z_hip = float(height) - (float(com[2]) - float(hips[:, 2].mean()))
+        leg = reach_fraction * float(robot.leg_length)
+        reach = math.sqrt(max(leg**2 - max(z_hip, 0.0) ** 2, 0.0))
+        return cls(
+            reach=reach,
+            hip_offset=float(np.abs(hips[:, 1] - com[1]).mean()),
+            min_width=float(robot.sole_size[1]),
+        )
+
+    def clamp(self, side: int, foothold: np.ndarray, hip_com: np.ndarray, yaw: float, other: np.ndarray) -> np.ndarray:
+        """``foothold`` (3,) m of leg ``side`` (0 left, 1 right) moved into the reach disc around the
+        predicted CoM ``hip_com`` (3,) m plus the hip offset, then out of the other foot's side of
+        ``other`` (3,) m (module docstring); z untouched."""
+        c, s_ = math.cos(yaw), math.sin(yaw)
+        lateral = np.array([-s_, c])
+        sign = 1.0 if side == 0 else -1.0
+        hip = np.asarray(hip_com, float)[:2] + sign * self.hip_offset * lateral
+        out = np.array(foothold, float)
+        rel = out[:2] - hip
+        dist = float(np.linalg.norm(rel))
+        if dist > self.reach:
+            out[:2] = hip + rel * (self.reach / dist)
+        gap = sign * float(lateral @ (out[:2] - np.asarray(other, float)[:2]))
+        if gap < self.min_width:
+            out[:2] += sign * (self.min_width - gap) * lateral
+        return out
