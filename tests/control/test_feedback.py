@@ -68,18 +68,18 @@ def test_only_swinging_feet_before_the_freeze_point_are_corrected(gain, updated)
 
 
 def test_anchoring_sets_the_shift_to_the_mean_offset_of_the_stance_soles_and_holds_it_in_flight():
-    """Horizontal target = mean over the stance soles of (measured - planned); z and the swinging
-    sole are ignored; with no sole in stance (flight) the target is held; ``anchor`` False leaves it."""
+    """Target = mean over the stance soles of (measured - planned), height included; the swinging
+    sole is ignored; with no sole in stance (flight) the target is held; ``anchor`` False leaves it."""
     shift = PlanShift(CaptureSettings(), omega=4.0)
     shift.target[2] = 0.01
     measured = np.array([[1.02, 0.11, 0.004], [0.70, -0.05, 0.09]])
     planned = np.array([[1.00, 0.10, 0.0], [0.65, -0.10, 0.0]])
     shift.anchor_on(np.array([True, False]), measured, planned)
-    np.testing.assert_allclose(shift.target, [0.02, 0.01, 0.01], atol=1e-15)
+    np.testing.assert_allclose(shift.target, [0.02, 0.01, 0.004], atol=1e-15)
     shift.anchor_on(np.array([True, True]), measured, planned)
-    np.testing.assert_allclose(shift.target, [0.035, 0.03, 0.01], atol=1e-15)
+    np.testing.assert_allclose(shift.target, [0.035, 0.03, 0.047], atol=1e-15)
     shift.anchor_on(np.array([False, False]), measured + 1.0, planned)
-    np.testing.assert_allclose(shift.target, [0.035, 0.03, 0.01], atol=1e-15)
+    np.testing.assert_allclose(shift.target, [0.035, 0.03, 0.047], atol=1e-15)
     off = PlanShift(CaptureSettings(anchor=False), omega=4.0)
     off.anchor_on(np.array([True, True]), measured, planned)
     assert np.all(off.target == 0.0)

@@ -122,19 +122,21 @@ class PlanShift:
 
         With the stance flags ``stance`` (2,) bool and the sole positions (2, 3) m ``measured`` (in the
         controller's world, the estimated one) and ``planned`` (the plan's footholds of the current
-        stances), the horizontal shift target is the mean offset of the stance soles from their
-        footholds,
+        stances), the shift target is the mean offset of the stance soles from their footholds,
 
-        .. math:: s_{xy} = \\operatorname{mean}_{i \\in stance} (p^{meas}_{i} - p^{plan}_{i})_{xy},
+        .. math:: s = \\operatorname{mean}_{i \\in stance} (p^{meas}_{i} - p^{plan}_{i}),
 
         held through flight. That subsumes the commanded corrections (a sole lands where it was sent,
         plus its tracking error) and makes the CoM reference relative to the stance soles, which the
         joint encoders measure well, instead of to the estimated world position, whose errors (1-3 cm
         per step from the IMU integration in swing and flight, and an unobservable drift) would
-        otherwise act on the CoM like pushes."""
+        otherwise act on the CoM like pushes. The vertical offset is taken too: the estimated base
+        height drifts by a few mm per step where the stance sole rolls (2-4 mm per step in g1-tour's
+        turning walk, docs/estimation.md), and a CoM height reference kept in the estimated world would
+        bend the legs by that much; referred to the stance soles, the CoM height stays the plan's."""
         if not self.settings.anchor or not stance.any():
             return
-        self.target[:2] = (measured[stance, :2] - planned[stance, :2]).mean(axis=0)
+        self.target[:] = (measured[stance] - planned[stance]).mean(axis=0)
 
     def blend(self, dt: float) -> None:
         """One step ``dt`` (s) of the lag of ``shift`` toward ``target``."""
