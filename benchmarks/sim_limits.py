@@ -1,7 +1,8 @@
 """Measure the G1's closed-loop limits in MuJoCo (issues 5, 17): largest lateral push, top speed, and
 the sensing targets, each with the estimated and the oracle state side by side.
 
-    .venv/bin/python benchmarks/sim_limits.py [--pushes 10 11 12 13 14 15] [--strides 0.50 0.55 0.60]
+    .venv/bin/python benchmarks/sim_limits.py [--pushes 10 11 12 13 14 15] [--speeds 1.6 1.8 2.0 2.2 2.4]
+        [--fixed-timing]   (``--pushes`` with no value skips the push sweep)
         [--states estimated oracle] [--sensing] [--only-sensing]
 
 ``--sensing`` adds the rows of issue 17 (docs/estimation.md): every shipped G1 scenario at default
@@ -10,9 +11,11 @@ a 4-tick latency (with and without prediction); the largest ``rl-peer`` noise sc
 
 * Push: ``g1-push-recovery`` with a lateral impulse (N s) at mid-stance of steps 4 (+y) and 8 (-y);
   the largest impulse survived without a fall is reported.
-* Top speed: ``g1-top-speed`` with the constant stride swept; for each stride the planned speed is
-  stride / (tau_SS + tau_F), and the measured mean forward CoM speed over the constant-stride steps is
-  reported; the top speed is the fastest plan held for all 10 constant steps without a fall.
+* Top speed: ``g1-top-speed`` with the planned speed v swept; each run takes the running timing of the
+  robot's timing law at v (``gaitshift.gait.run_timing``: stance <= run_contact_length / v, swing time
+  kept; ``--fixed-timing``: g1-run's 0.32 / 0.12 s at every speed) and the stride v (T_s + T_f);
+  the measured mean forward CoM speed over the constant-stride steps is reported; the top speed is the
+  fastest plan held for all 10 constant steps without a fall.
 Writes benchmarks/sim_limits.json.
 """
 
@@ -33,6 +36,8 @@ import yaml
 import gaitshift
 from gaitshift.api import robot_facts
 from gaitshift.control.drivers import driver_for
+from gaitshift.gait.run_timing import running_timing
+from gaitshift.robots.config import load_robot
 from gaitshift.scenario.loader import builtin_names, builtin_text, load_scenario
 from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.pushes import mid_stance_pushes
@@ -57,11 +62,23 @@ def push_sweep(impulses, state="oracle"):
     return rows, (max(ok) if ok else None)
 
 
-def speed_sweep(strides, state="oracle"):
+def speed_sweep(speeds, state="oracle", law=True):
+    """For each planned speed v: the g1-top-speed run at v with the running timing of the robot's law
+    (:func:`gaitshift.gait.run_timing.running_timing` from g1-run's nominal timing; ``law=False``: that
+    nominal timing at every speed) and the stride v (T_s + T_f)."""
     base = yaml.safe_load(builtin_text("g1-top-speed"))
+    contact = load_robot(base["robot"]).run_contact_length if law else float("inf")
+    t0 = yaml.safe_load(builtin_text("g1-run"))["timing"]  # the nominal running timing of the law
     rows = []
-    for s in strides:
-        data = dict(base, profile=dict(base["profile"], max_stride=s), name=f"g1-top-speed-{s}")
+    for v in speeds:
+        ts, tf = (float(x) for x in running_timing(v, t0["single_support"], t0["flight"], contact))
+        s = round(v * (ts + tf), 4)
+        data = dict(
+            base,
+            timing=dict(t0, single_support=round(ts, 4), flight=round(tf, 4)),
+            profile=dict(base["profile"], max_stride=s),
+            name=f"g1-top-speed-{v}",
+        )
         sc = load_scenario(data)
         traj = gaitshift.plan(sc)
         res = simulate(traj, SimOptions(state=state))
@@ -85,6 +102,8 @@ def speed_sweep(strides, state="oracle"):
         rows.append(
             {
                 "stride_m": s,
+                "single_support": sc.timing.single_support,
+                "flight": sc.timing.flight,
                 "planned_speed": planned,
                 "fell": bool(res.fell),
                 "fall_time": float(res.fall_time),
@@ -92,7 +111,7 @@ def speed_sweep(strides, state="oracle"):
             }
         )
         print(
-            f"stride {s:.2f} m ({planned:.2f} m/s planned): "
+            f"{planned:.2f} m/s planned (stride {s:.3f} m, SS {ts:.3f} s, flight {tf:.3f} s): "
             f"{f'FELL at {res.fall_time:.2f} s' if res.fell else f'held, measured {measured:.2f} m/s'}",
             flush=True,
         )
@@ -150,7 +169,8 @@ def sensing_rows(states):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pushes", type=float, nargs="*", default=[10, 11, 12, 13, 14, 15])
-    ap.add_argument("--strides", type=float, nargs="*", default=[0.50, 0.55, 0.60])
+    ap.add_argument("--speeds", type=float, nargs="*", default=[1.6, 1.8, 2.0, 2.2, 2.4])
+    ap.add_argument("--fixed-timing", action="store_true", help="the scenario's timing at every speed")
     ap.add_argument("--states", nargs="*", default=["estimated", "oracle"])
     ap.add_argument("--sensing", action="store_true", help="also measure issue 17's sensing rows")
     ap.add_argument("--only-sensing", action="store_true", help="only issue 17's sensing rows")
@@ -160,7 +180,7 @@ def main() -> None:
     if not args.only_sensing:
         for state in args.states:
             push_rows, push_max = push_sweep(args.pushes, state)
-            speed_rows, top = speed_sweep(args.strides, state)
+            speed_rows, top = speed_sweep(args.speeds, state, law=not args.fixed_timing)
             out[state] = {"pushes": push_rows, "largest_push_survived_Ns": push_max, "speeds": speed_rows}
             out[state]["top_speed_held_m_s"] = top
             print(f"{state}: largest push survived {push_max} N s; top speed held for 10 steps {top} m/s")
