@@ -82,7 +82,7 @@ def speed_sweep(speeds, state="oracle", law=True):
         sc = load_scenario(data)
         traj = gaitshift.plan(sc)
         res = simulate(traj, SimOptions(state=state))
-        planned = s / (sc.timing.single_support + sc.timing.flight)
+        planned = round(s / (sc.timing.single_support + sc.timing.flight), 3)
         # constant-stride steps: footholds whose stride equals the maximum
         fs = traj.footsteps[2:-1, 0]
         stride = np.diff(np.r_[0.0, fs])

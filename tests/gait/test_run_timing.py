@@ -34,3 +34,13 @@ def test_an_infinite_contact_length_is_the_fixed_timing_and_bad_input_is_refused
 def test_the_g1_yaml_gives_the_contact_length_and_other_robots_default_to_none():
     assert load_robot("g1").run_contact_length == pytest.approx(0.5)
     assert math.isinf(load_robot("h1").run_contact_length)
+
+
+def test_g1_top_speed_runs_the_law_timing_of_its_speed_from_g1_runs_nominal_timing():
+    from gaitshift.scenario.loader import load_scenario
+
+    top, run = load_scenario("g1-top-speed"), load_scenario("g1-run")
+    v = top.profile.max_stride / (top.timing.single_support + top.timing.flight)
+    ts, tf = running_timing(v, run.timing.single_support, run.timing.flight, load_robot("g1").run_contact_length)
+    assert v == pytest.approx(2.0, abs=1e-3)
+    assert top.timing.single_support == pytest.approx(ts, abs=1e-3) and top.timing.flight == pytest.approx(tf, abs=1e-3)
