@@ -1,7 +1,7 @@
 """Measure the G1's closed-loop limits in MuJoCo (issues 5, 17): largest lateral push, top speed, and
 the sensing targets, each with the estimated and the oracle state side by side.
 
-    .venv/bin/python benchmarks/sim_limits.py [--pushes 10 11 12 13 14 15] [--speeds 1.6 1.8 2.0 2.2 2.4]
+    .venv/bin/python benchmarks/sim_limits.py [--pushes 10 11 12 13 14 15] [--speeds 1.8 2.0 2.05 2.1 2.2]
         [--fixed-timing]   (``--pushes`` with no value skips the push sweep)
         [--states estimated oracle] [--sensing] [--only-sensing]
 
@@ -169,7 +169,7 @@ def sensing_rows(states):
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pushes", type=float, nargs="*", default=[10, 11, 12, 13, 14, 15])
-    ap.add_argument("--speeds", type=float, nargs="*", default=[1.6, 1.8, 2.0, 2.2, 2.4])
+    ap.add_argument("--speeds", type=float, nargs="*", default=[1.8, 2.0, 2.05, 2.1, 2.2])
     ap.add_argument("--fixed-timing", action="store_true", help="the scenario's timing at every speed")
     ap.add_argument("--states", nargs="*", default=["estimated", "oracle"])
     ap.add_argument("--sensing", action="store_true", help="also measure issue 17's sensing rows")
