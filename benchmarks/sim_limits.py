@@ -2,7 +2,8 @@
 speed, and the sensing targets, each with the estimated and the oracle state side by side.
 
     .venv/bin/python benchmarks/sim_limits.py [--patterns lateral forward backward] [--gains 1 0]
-        [--strides 0.50 0.55 0.60] [--no-speed] [--states estimated oracle] [--sensing] [--only-sensing]
+        [--speeds 1.8 2.0 2.05 2.1 2.2] [--fixed-timing] [--no-speed] [--no-pushes]
+        [--states estimated oracle] [--sensing] [--only-sensing]
 
 ``--sensing`` adds the rows of issue 17 (docs/estimation.md): every shipped G1 scenario at default
 settings; the estimation errors on g1-walk-run-walk; floor friction 0.35 with the controller not told;
@@ -13,9 +14,11 @@ a 4-tick latency (with and without prediction); the largest ``rl-peer`` noise sc
   twice; the largest impulse survived without a fall is found by bisection (0.5 N s; the upper end
   starts at 48 N s and doubles while survived), with the step adjustment
   (:mod:`gaitshift.control.feedback`) at its default gain (1) and off (gain 0).
-* Top speed: ``g1-top-speed`` with the constant stride swept; for each stride the planned speed is
-  stride / (tau_SS + tau_F), and the measured mean forward CoM speed over the constant-stride steps is
-  reported; the top speed is the fastest plan held for all 10 constant steps without a fall.
+* Top speed: ``g1-top-speed`` with the planned speed v swept; each run takes the running timing of the
+  robot's timing law at v (``gaitshift.gait.run_timing``: stance <= run_contact_length / v, swing time
+  kept; ``--fixed-timing``: g1-run's 0.32 / 0.12 s at every speed) and the stride v (T_s + T_f);
+  the measured mean forward CoM speed over the constant-stride steps is reported; the top speed is the
+  fastest plan held for all 10 constant steps without a fall.
 Writes benchmarks/sim_limits.json.
 """
 
@@ -38,6 +41,8 @@ import gaitshift
 from gaitshift.api import robot_facts
 from gaitshift.control.drivers import driver_for
 from gaitshift.control.feedback import CaptureSettings
+from gaitshift.gait.run_timing import running_timing
+from gaitshift.robots.config import load_robot
 from gaitshift.scenario.loader import builtin_names, builtin_text, load_scenario
 from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.pushes import mid_stance_pushes
@@ -91,15 +96,27 @@ def push_table(states, gains, patterns=("lateral", "forward", "backward")):
     return out
 
 
-def speed_sweep(strides, state="oracle"):
+def speed_sweep(speeds, state="oracle", law=True):
+    """For each planned speed v: the g1-top-speed run at v with the running timing of the robot's law
+    (:func:`gaitshift.gait.run_timing.running_timing` from g1-run's nominal timing; ``law=False``: that
+    nominal timing at every speed) and the stride v (T_s + T_f)."""
     base = yaml.safe_load(builtin_text("g1-top-speed"))
+    contact = load_robot(base["robot"]).run_contact_length if law else float("inf")
+    t0 = yaml.safe_load(builtin_text("g1-run"))["timing"]  # the nominal running timing of the law
     rows = []
-    for s in strides:
-        data = dict(base, profile=dict(base["profile"], max_stride=s), name=f"g1-top-speed-{s}")
+    for v in speeds:
+        ts, tf = (float(x) for x in running_timing(v, t0["single_support"], t0["flight"], contact))
+        s = round(v * (ts + tf), 4)
+        data = dict(
+            base,
+            timing=dict(t0, single_support=round(ts, 4), flight=round(tf, 4)),
+            profile=dict(base["profile"], max_stride=s),
+            name=f"g1-top-speed-{v}",
+        )
         sc = load_scenario(data)
         traj = gaitshift.plan(sc)
         res = simulate(traj, SimOptions(state=state))
-        planned = s / (sc.timing.single_support + sc.timing.flight)
+        planned = round(s / (sc.timing.single_support + sc.timing.flight), 3)
         # constant-stride steps: footholds whose stride equals the maximum
         fs = traj.footsteps[2:-1, 0]
         stride = np.diff(np.r_[0.0, fs])
@@ -119,6 +136,8 @@ def speed_sweep(strides, state="oracle"):
         rows.append(
             {
                 "stride_m": s,
+                "single_support": sc.timing.single_support,
+                "flight": sc.timing.flight,
                 "planned_speed": planned,
                 "fell": bool(res.fell),
                 "fall_time": float(res.fall_time),
@@ -126,7 +145,7 @@ def speed_sweep(strides, state="oracle"):
             }
         )
         print(
-            f"stride {s:.2f} m ({planned:.2f} m/s planned): "
+            f"{planned:.2f} m/s planned (stride {s:.3f} m, SS {ts:.3f} s, flight {tf:.3f} s): "
             f"{f'FELL at {res.fall_time:.2f} s' if res.fell else f'held, measured {measured:.2f} m/s'}",
             flush=True,
         )
@@ -185,8 +204,10 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--patterns", nargs="*", default=["lateral", "forward", "backward"])
     ap.add_argument("--gains", type=float, nargs="*", default=[1.0, 0.0], help="step adjustment gains (0: off)")
+    ap.add_argument("--no-pushes", action="store_true", help="skip the push bisections")
     ap.add_argument("--no-speed", action="store_true", help="skip the top-speed sweep")
-    ap.add_argument("--strides", type=float, nargs="*", default=[0.50, 0.55, 0.60])
+    ap.add_argument("--speeds", type=float, nargs="*", default=[1.8, 2.0, 2.05, 2.1, 2.2])
+    ap.add_argument("--fixed-timing", action="store_true", help="the scenario's timing at every speed")
     ap.add_argument("--states", nargs="*", default=["estimated", "oracle"])
     ap.add_argument("--sensing", action="store_true", help="also measure issue 17's sensing rows")
     ap.add_argument("--only-sensing", action="store_true", help="only issue 17's sensing rows")
@@ -194,9 +215,10 @@ def main() -> None:
     args = ap.parse_args()
     out = {}
     if not args.only_sensing:
-        out["pushes"] = push_table(args.states, args.gains, args.patterns)
+        if not args.no_pushes:
+            out["pushes"] = push_table(args.states, args.gains, args.patterns)
         for state in [] if args.no_speed else args.states:
-            speed_rows, top = speed_sweep(args.strides, state)
+            speed_rows, top = speed_sweep(args.speeds, state, law=not args.fixed_timing)
             out[state] = {"speeds": speed_rows, "top_speed_held_m_s": top}
             print(f"{state}: top speed held for 10 steps {top} m/s")
     if args.sensing or args.only_sensing:

@@ -20,6 +20,7 @@ the model, never copied into the YAML:
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -75,6 +76,8 @@ class RobotConfig:
         ik: ((IKSettings field, value), ...) the robot's whole-body IK weights (YAML ``ik``).
         flight_scale: factor on the flight time of running steps of scaled scenarios (YAML ``gait``).
         step_width: lateral step width of scaled scenarios, m; None: ``foot_separation`` (YAML ``gait``).
+        run_contact_length: the longest running stance travel, m (:mod:`gaitshift.gait.run_timing`);
+            inf if the YAML's ``gait`` gives none (the nominal running timing at every speed).
         source: the built-in name or YAML path it was loaded from.
     """
 
@@ -108,6 +111,7 @@ class RobotConfig:
     ik: tuple[tuple[str, float], ...] = ()
     flight_scale: float = 1.0
     step_width: float | None = None
+    run_contact_length: float = math.inf
     source: str = ""
     standing_computed: bool = field(default=False)
 
@@ -344,6 +348,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         ik=tuple((k, v) for k, v in cfg.ik.model_dump().items() if v is not None),
         flight_scale=cfg.gait.flight_scale,
         step_width=cfg.gait.step_width,
+        run_contact_length=cfg.gait.run_contact_length or math.inf,
         source=source,
         standing_computed=computed,
     )

@@ -29,7 +29,10 @@
 ``gait``               (optional) how a scenario is scaled to this robot (:mod:`gaitshift.wholebody.scaling`):
                        ``flight_scale`` (0 < s <= 1) multiplies the TV-LIPM flight time of running steps
                        (a weaker robot lands softer: touchdown speed g T_f / 2); ``step_width`` (m) is the
-                       lateral step width instead of the standing foot separation (docs/robots.md)
+                       lateral step width instead of the standing foot separation (docs/robots.md);
+                       ``run_contact_length`` (m, optional) the longest distance the body travels over one
+                       running stance: faster runs shorten the stance to it and lengthen the flight
+                       (:mod:`gaitshift.gait.run_timing`, docs/simulation.md "Top speed")
 =====================  ========================================================================
 """
 
@@ -71,6 +74,7 @@ class Gait(StrictModel):
 
     flight_scale: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 1.0
     step_width: Length | None = None
+    run_contact_length: Length | None = None
 
 
 class IkWeights(StrictModel):
