@@ -27,7 +27,8 @@ class PlanSamples:
             plan's terrain (``meta["terrain"]``) under its foothold, in a swing the minimum-jerk blend
             from the lift-off foothold's to the touchdown foothold's (as the yaws,
             :func:`gaitshift.gait.swing.foot_yaws`); zero on flat ground.
-        terrain: the plan's terrain; tread_half: half the sole length plus the plan's edge clearance,
+        terrain: the plan's terrain; tread_half: half the sole length (the plan's foot or the robot's sole,
+            the longer) plus the plan's edge clearance,
             m: how far a corrected touchdown stays from the edges of its tread (control/reference.py).
         lift, land: per foot (left, right), the plan times (s) of its lift-offs and touchdowns
             (first sample after the contact flag changes), increasing.
@@ -46,8 +47,9 @@ class PlanSamples:
     tread_half: float = 0.0
 
     @classmethod
-    def from_trajectory(cls, traj: Trajectory) -> PlanSamples:
-        """Derive the samples of ``traj`` (see the class docstring)."""
+    def from_trajectory(cls, traj: Trajectory, sole_length: float = 0.0) -> PlanSamples:
+        """Derive the samples of ``traj`` (see the class docstring); ``sole_length`` (m): the robot's
+        sole length, when it is longer than the plan's foot, keeps the whole real sole on its tread."""
         dt = traj.dt
         fp = traj.foot_pos
         fv = np.gradient(fp, dt, axis=0)
@@ -64,7 +66,8 @@ class PlanSamples:
             fs = traj.footsteps.copy()
             fs[:, 3] = np.arctan(terrain.slope(fs[:, 0]))  # each foothold's pitch in the yaw column
             pitch = foot_yaws(c.astype(bool), fp, fs, traj.footstep_side)
-        half = 0.5 * float(traj.meta.get("foot_size", [0.0])[0]) + float(traj.meta.get("edge_clearance", 0.0))
+        foot = max(float(traj.meta.get("foot_size", [0.0])[0]), sole_length)
+        half = 0.5 * foot + float(traj.meta.get("edge_clearance", 0.0))
         return cls(
             terrain=terrain,
             tread_half=half,

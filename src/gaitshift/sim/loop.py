@@ -141,7 +141,7 @@ class _Run:
         self.video: VideoRecorder | None = None
         self.d = mujoco.MjData(plant.model)
         self.dt = plant.dt
-        self.plan = PlanSamples.from_trajectory(traj)
+        self.plan = PlanSamples.from_trajectory(traj, plant.robot.sole_size[0])
         q0 = initial_qpos(plant, traj.com_pos[0], traj.foot_pos[0], self.plan.yaw[0])
         self.d.qpos[:] = q0
         mujoco.mj_forward(plant.model, self.d)
@@ -168,7 +168,7 @@ class _Run:
             c = view.data
             new = self.replanner.maybe_replan(tp, c.subtree_com[0].copy(), c.subtree_linvel[0])
             if new is not None:
-                self.traj, self.plan = new, PlanSamples.from_trajectory(new)
+                self.traj, self.plan = new, PlanSamples.from_trajectory(new, self.plant.robot.sole_size[0])
                 self.sched.retarget(new, self.plan)
         return min(round(tp / self.traj.dt), len(self.traj) - 1)
 
