@@ -1,7 +1,6 @@
 """Terrain in the simulator (issue 13): the scene holds the plan's terrain at its heights, and the G1
 walks the built-in stairs and ramps up and down closed loop on the estimated state, its stance soles on
-the ground (on the tread, not on an edge) and, on a ramp, pitched with it. Stairs down hold on the
-truth; on the estimated state they fall (a strict expected failure, so a fix shows)."""
+the ground (on the tread, not on an edge) and, on a ramp, pitched with it."""
 
 from __future__ import annotations
 
@@ -35,27 +34,11 @@ def test_the_scene_holds_the_terrain_at_its_heights():
     assert len(plant.ground_geoms) == 4 and len(ContactSensor(plant).ground) == 4
 
 
-STAIRS_DOWN_ESTIMATED = (
-    "falls at 6.73 s on the estimated state since the plan anchor follows the stance soles' estimated "
-    "height (docs/simulation.md, Terrain): the estimate sinks about 1.2 cm per 10 cm step down"
-)
-
-
-@pytest.mark.parametrize(
-    ("name", "state"),
-    [
-        ("g1-stairs-up", None),
-        ("g1-stairs-down", "oracle"),
-        pytest.param("g1-stairs-down", None, marks=pytest.mark.xfail(strict=True, reason=STAIRS_DOWN_ESTIMATED)),
-        ("g1-slope-up", None),
-        ("g1-slope-down", None),
-    ],
-)
-def test_g1_walks_the_terrain_with_its_soles_on_the_ground(name, state):
-    """None: the default state, sensors and estimator (the controller never sees the truth)."""
+@pytest.mark.parametrize("name", ["g1-stairs-up", "g1-stairs-down", "g1-slope-up", "g1-slope-down"])
+def test_g1_walks_the_terrain_on_the_estimated_state_with_its_soles_on_the_ground(name):
     sc = load_scenario(name)
     traj = plan(sc)
-    result = simulate(traj, SimOptions(state=state))
+    result = simulate(traj)  # the default: sensors, estimator, the controller never sees the truth
     m = result.metrics
     assert not result.fell, result.fall_reason
     assert m["steps_completed"] == m["steps_planned"]
