@@ -67,26 +67,23 @@ class Terrain:
         p = self.pieces
         return tuple(np.array([getattr(q, k) for q in p], float) for k in ("x0", "x1", "z0", "z1"))  # type: ignore[return-value]
 
-    def height(self, x: FloatLike) -> FloatArray:
-        """Ground height z(x), m, shape of ``x``."""
-        x = np.asarray(x, float)
+    def _piece_at(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Height and slope of the piece under each x (shape of ``x``; 0 and 0 on the floor)."""
         if self.flat:
-            return np.zeros_like(x)
+            return np.zeros_like(x), np.zeros_like(x)
         x0, x1, z0, z1 = self._columns()
         k = np.clip(np.searchsorted(x0, x, side="right") - 1, 0, len(x0) - 1)
         inside = (x >= x0[k]) & (x < x1[k])
-        z = z0[k] + (z1[k] - z0[k]) * (x - x0[k]) / (x1[k] - x0[k])
-        return np.asarray(np.where(inside, z, 0.0), float)
+        slope = (z1[k] - z0[k]) / (x1[k] - x0[k])
+        return np.where(inside, z0[k] + slope * (x - x0[k]), 0.0), np.where(inside, slope, 0.0)
+
+    def height(self, x: FloatLike) -> FloatArray:
+        """Ground height z(x), m, shape of ``x``."""
+        return np.asarray(self._piece_at(np.asarray(x, float))[0], float)
 
     def slope(self, x: FloatLike) -> FloatArray:
         """dz/dx of the ground at x, shape of ``x`` (0 on the floor)."""
-        x = np.asarray(x, float)
-        if self.flat:
-            return np.zeros_like(x)
-        x0, x1, z0, z1 = self._columns()
-        k = np.clip(np.searchsorted(x0, x, side="right") - 1, 0, len(x0) - 1)
-        inside = (x >= x0[k]) & (x < x1[k])
-        return np.asarray(np.where(inside, (z1[k] - z0[k]) / (x1[k] - x0[k]), 0.0), float)
+        return np.asarray(self._piece_at(np.asarray(x, float))[1], float)
 
     def breaks(self) -> FloatArray:
         """The x of every break (height or slope changes there), sorted, m."""
