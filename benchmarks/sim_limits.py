@@ -3,7 +3,11 @@ speed, and the sensing targets, each with the estimated and the oracle state sid
 
     .venv/bin/python benchmarks/sim_limits.py [--patterns lateral forward backward] [--gains 1 0]
         [--speeds 1.8 2.0 2.05 2.1 2.2] [--fixed-timing] [--no-speed] [--no-pushes]
-        [--states estimated oracle] [--sensing] [--only-sensing]
+        [--states estimated oracle] [--envelope] [--sensing] [--only-sensing]
+
+``--envelope`` adds the pass/fail rows of issue 13 (docs/simulation.md): turning while running
+(g1-run-turn), stairs up and down, the running step, the four slopes, and mass -10 % / +10 %, floor
+friction 0.4 and a 1-tick delay, each alone on g1-walk-run-walk.
 
 ``--sensing`` adds the rows of issue 17 (docs/estimation.md): every shipped G1 scenario at default
 settings; the estimation errors on g1-walk-run-walk; floor friction 0.35 with the controller not told;
@@ -200,6 +204,28 @@ def sensing_rows(states):
     return out
 
 
+#: issue 13's table rows that are a pass/fail run, not a bisection: the scenario and the options
+ENVELOPE_ROWS = (
+    ("turning while running, 1.5 m/s at 0.5 rad/s", "g1-run-turn", {}),
+    ("stairs up, walking, 10 cm", "g1-stairs-up", {}),
+    ("stairs down, walking, 10 cm", "g1-stairs-down", {}),
+    ("running over a 5 cm step", "g1-run-step", {}),
+    ("slope +10 deg, walking", "g1-slope-up", {}),
+    ("slope -10 deg, walking", "g1-slope-down", {}),
+    ("slope +10 deg, running", "g1-run-slope-up", {}),
+    ("slope -10 deg, running", "g1-run-slope-down", {}),
+    ("mass -10 %, g1-walk-run-walk", "g1-walk-run-walk", {"mass_scale": 0.9}),
+    ("mass +10 %, g1-walk-run-walk", "g1-walk-run-walk", {"mass_scale": 1.1}),
+    ("floor friction 0.4, g1-walk-run-walk", "g1-walk-run-walk", {"friction": 0.4}),
+    ("1-tick delay, g1-walk-run-walk", "g1-walk-run-walk", {"latency": 1}),
+)
+
+
+def envelope_rows(states):
+    """Issue 13's pass/fail rows (terrain, turning while running, each perturbation alone), per state."""
+    return [{"row": label, **run(name, state=state, **kw)} for state in states for label, name, kw in ENVELOPE_ROWS]
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--patterns", nargs="*", default=["lateral", "forward", "backward"])
@@ -210,6 +236,7 @@ def main() -> None:
     ap.add_argument("--fixed-timing", action="store_true", help="the scenario's timing at every speed")
     ap.add_argument("--states", nargs="*", default=["estimated", "oracle"])
     ap.add_argument("--sensing", action="store_true", help="also measure issue 17's sensing rows")
+    ap.add_argument("--envelope", action="store_true", help="also run issue 13's pass/fail rows (terrain, ...)")
     ap.add_argument("--only-sensing", action="store_true", help="only issue 17's sensing rows")
     ap.add_argument("--out", type=Path, default=Path(__file__).with_name("sim_limits.json"))
     args = ap.parse_args()
@@ -221,6 +248,8 @@ def main() -> None:
             speed_rows, top = speed_sweep(args.speeds, state, law=not args.fixed_timing)
             out[state] = {"speeds": speed_rows, "top_speed_held_m_s": top}
             print(f"{state}: top speed held for 10 steps {top} m/s")
+    if args.envelope and not args.only_sensing:
+        out["envelope"] = envelope_rows(args.states)
     if args.sensing or args.only_sensing:
         out["sensing"] = sensing_rows(args.states)
     args.out.write_text(json.dumps(out, indent=2, default=str))
