@@ -28,6 +28,15 @@ class InputError(GaitshiftError, ValueError):
         super().__init__(f"{field} = {value!r} is invalid: allowed {allowed}")
 
 
+def number_in(field: str, value: object, bounds: tuple[float, float], unit: str = "") -> float:
+    """``value`` as a float when it is a number (not a bool) in ``bounds`` (inclusive), else the
+    :class:`InputError` "a number in [lo, hi] unit" naming ``field``."""
+    lo, hi = bounds
+    if isinstance(value, bool) or not isinstance(value, int | float) or not lo <= value <= hi:
+        raise InputError(field, value, f"a number in [{lo:g}, {hi:g}]" + (f" {unit}" if unit else ""))
+    return float(value)
+
+
 class ScenarioError(InputError):
     """A scenario file or name is invalid (unknown key, wrong type, unknown built-in)."""
 

@@ -14,12 +14,11 @@ profile's +-1.5 rad/s); it acts on the estimated state only (the oracle reads th
 from __future__ import annotations
 
 import copy
-import math
 from dataclasses import replace
 from typing import Any
 
 from gaitshift.control.estimation.noise import Channel, NoiseProfile
-from gaitshift.errors import InputError
+from gaitshift.errors import number_in
 from gaitshift.scenario.sim_settings import MASS_SCALE_RANGE
 
 #: allowed extra joint-velocity noise, rad/s (half-width of the uniform draw), inclusive
@@ -36,16 +35,8 @@ __all__ = [
 
 
 def check_mass_scale(scale: object) -> float:
-    """``scale`` as a float in :data:`MASS_SCALE_RANGE`.
-
-    Raises:
-        InputError: not a finite number in the range.
-    """
-    lo, hi = MASS_SCALE_RANGE
-    ok = isinstance(scale, int | float) and not isinstance(scale, bool) and math.isfinite(scale)
-    if not ok or not lo <= float(scale) <= hi:  # type: ignore[arg-type]
-        raise InputError("mass_scale", scale, f"a number in [{lo:g}, {hi:g}]")
-    return float(scale)  # type: ignore[arg-type]
+    """``scale`` as a float in :data:`MASS_SCALE_RANGE`, else :class:`InputError`."""
+    return number_in("mass_scale", scale, MASS_SCALE_RANGE)
 
 
 def scaled_masses(model: Any, scale: float) -> Any:
@@ -61,11 +52,7 @@ def scaled_masses(model: Any, scale: float) -> Any:
 
 def check_joint_vel_noise(noise: object) -> float:
     """``noise`` as a float in :data:`JOINT_VEL_NOISE_RANGE` (rad/s), else :class:`InputError`."""
-    lo, hi = JOINT_VEL_NOISE_RANGE
-    ok = isinstance(noise, int | float) and not isinstance(noise, bool) and math.isfinite(noise)
-    if not ok or not lo <= float(noise) <= hi:  # type: ignore[arg-type]
-        raise InputError("joint_vel_noise", noise, f"a number in [{lo:g}, {hi:g}] rad/s")
-    return float(noise)  # type: ignore[arg-type]
+    return number_in("joint_vel_noise", noise, JOINT_VEL_NOISE_RANGE, "rad/s")
 
 
 def with_joint_vel_noise(profile: NoiseProfile, noise: float) -> NoiseProfile:

@@ -37,7 +37,7 @@ from gaitshift.control.estimation.contact import noise_thresholds
 from gaitshift.control.estimation.filters import FILTERS
 from gaitshift.control.estimation.noise import noise_profile
 from gaitshift.control.estimation.tuning import FilterTuning
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, number_in
 from gaitshift.scenario.sim_settings import FRICTION_RANGE, NOISE_PROFILES, NOISE_SCALE_RANGE, STATE_SOURCES
 from gaitshift.sim.contacts import FootContacts
 from gaitshift.sim.latency import CommandPipe
@@ -73,10 +73,7 @@ def check_sensing_options(opts: Any) -> None:
         raise InputError("state", opts.state, "one of: " + ", ".join(STATE_SOURCES))
     if opts.noise not in NOISE_PROFILES:
         raise InputError("noise", opts.noise, "one of: " + ", ".join(NOISE_PROFILES))
-    k = opts.noise_scale
-    lo, hi = NOISE_SCALE_RANGE
-    if isinstance(k, bool) or not isinstance(k, int | float) or not (lo <= k <= hi):
-        raise InputError("noise_scale", k, f"a number in [{lo:g}, {hi:g}]")
+    number_in("noise_scale", opts.noise_scale, NOISE_SCALE_RANGE)
     for name in ("friction", "assumed_friction"):
         mu = getattr(opts, name)
         if mu is not None and (
