@@ -72,7 +72,7 @@ def _whole_step_row(gen: LocomotionGenerator, reps: int, label: str) -> Result:
         t0 = time.perf_counter()
         gen.plan_due()
         end = gen.next_plan_index
-        for _ in range(max(1, (end if end is not None else gen.index + 1) - gen.index)):
+        for _ in range(max(1, (end if end is not None else gen.tick_index + 1) - gen.tick_index)):
             gen.tick()
         times[k] = time.perf_counter() - t0
     base = timed("", "", block.step, reps)

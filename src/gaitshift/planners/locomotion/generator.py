@@ -122,16 +122,6 @@ class LocomotionGenerator(SampleClock):
         return self._steps
 
     @property
-    def index(self) -> int:
-        """Sample index of the next sample to emit."""
-        return self._i
-
-    @property
-    def next_plan_index(self) -> int | None:
-        """Sample index of the next planning instant (None when none is scheduled)."""
-        return self._next_plan
-
-    @property
     def current_step(self) -> StepRecord | None:
         """The step being emitted (None while standing)."""
         return self._rec
