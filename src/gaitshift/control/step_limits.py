@@ -27,8 +27,9 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-import mujoco
 import numpy as np
+
+from gaitshift.robots.dimensions import standing_data
 
 __all__ = ["StepLimits"]
 
@@ -52,10 +53,7 @@ class StepLimits:
         """The limits of ``plant`` (a :class:`gaitshift.sim.plant.Plant`; its robot config and model in
         the standing pose) for a plan of CoM height ``height`` (m), eq. (1)."""
         robot, m = plant.robot, plant.model
-        d = mujoco.MjData(m)
-        d.qpos[:] = robot.standing_qpos(m)
-        d.qpos[3:7] = (1.0, 0.0, 0.0, 0.0)
-        mujoco.mj_forward(m, d)
+        d, _ = standing_data(m, robot.standing_pose)
         hips = np.array([d.xanchor[m.joint(h).id] for h in robot.hips])
         com = d.subtree_com[0]
         z_hip = float(height) - (float(com[2]) - float(hips[:, 2].mean()))
