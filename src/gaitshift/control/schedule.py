@@ -58,7 +58,7 @@ class FootScheduler:
         self.plan = plan
         self.settings = settings
         self.full = 4.0 * weight
-        self.stance = traj.contact[0].copy()
+        self.stance = traj.contact[0].copy()  # the plan's first contact flags (the plant is never read)
         self.t_touch = np.full(2, -1.0)
         self.swing_start = np.zeros(2)
         self.swing_end = np.zeros(2)

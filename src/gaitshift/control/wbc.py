@@ -67,7 +67,8 @@ class _Frames:
 
 class _Views:
     """Views into one ``MjData`` of what the controller reads, taken once (an attribute of ``MjData``
-    builds a new array object at every access)."""
+    builds a new array object at every access). That ``MjData`` is the controller's own, set from the
+    estimated state (:mod:`gaitshift.sim.sensing`), never the plant's."""
 
     def __init__(self, data: mujoco.MjData, torso: int, pelvis: int) -> None:
         self.data = data
