@@ -77,7 +77,8 @@ def main(robots: list[str]) -> None:
         print(
             f"# {name}: mass {r.mass:.2f} kg, leg {r.leg_length:.3f} m, CoM height {r.com_height:.3f} m, "
             f"standing torque {st.torque_fraction.max():.2f} of the limit, knee strength "
-            f"{knee_strength(r):.3f} (knee torque limit / (m g leg)), gait {r.flight_scale=} {r.step_width=}",
+            f"{knee_strength(r):.3f} (knee torque limit / (m g leg)), "
+            f"gait {r.flight_scale=} {r.step_width=} {r.step_time_scale=}",
             flush=True,
         )
         for scenario in SCENARIOS:

@@ -104,6 +104,29 @@ def test_a_robots_gait_key_shortens_the_flight_and_sets_the_step_width(tmp_path)
     assert flights["t1-plain"][1] == pytest.approx(load_robot(str(tmp_path / "t1-plain.yaml")).foot_separation)
 
 
+def test_step_time_scale_makes_quicker_shorter_steps_with_the_lipm_lateral_sway(tmp_path):
+    """``gait: {step_time_scale: s}``: support times and stride x s (speed kept), and the planned lateral
+    CoM sway about the mid-line of the feet in steady walking is the LIPM's w (1 - 1/cosh(omega T / 2))
+    (w = half the step width, T = single + double support, omega = sqrt(g / h)): shorter steps sway less."""
+    text = (resources.files("gaitshift.robots") / "configs" / "h1.yaml").read_text()
+    plain = "\n".join(line for line in text.splitlines() if not line.startswith("gait:"))
+    (tmp_path / "h1-plain.yaml").write_text(plain.replace("name: h1", "name: h1-plain"))
+    quick = load_robot("h1")
+    assert quick.step_time_scale == 0.5 and load_robot(str(tmp_path / "h1-plain.yaml")).step_time_scale == 1.0
+    sway = {}
+    for robot in (str(tmp_path / "h1-plain.yaml"), quick):
+        sc = scale_scenario("g1-walk", robot)
+        traj = gaitshift.plan(sc)
+        steady = (traj.t > 2.0) & (traj.t < 3.5)
+        y = np.abs(traj.com_pos[steady, 1] - traj.foot_pos[steady, :, 1].mean(axis=1)).max()
+        step = sc.timing.single_support + sc.timing.double_support
+        omega = np.sqrt(sc.gravity / sc.height)
+        assert y == pytest.approx(sc.profile.step_width / 2 * (1 - 1 / np.cosh(omega * step / 2)), rel=0.25)
+        sway[sc.timing.single_support] = (y, sc.profile.max_stride / step)
+    (y_quick, v_quick), (y_plain, v_plain) = sway[0.2], sway[0.4]
+    assert y_quick < 0.45 * y_plain and v_quick == pytest.approx(v_plain)
+
+
 def test_a_robots_ik_weights_replace_the_ik_defaults_and_unknown_ones_are_named(tmp_path):
     from gaitshift.errors import InputError
     from gaitshift.wholebody.ik import IKSettings, WholeBodyIK

@@ -43,9 +43,15 @@ def test_a_fall_exits_1_with_valid_json_metrics(tmp_path, capsys):
 
 def test_a_plan_faster_than_the_makers_joint_speed_limits_is_refused_before_the_simulation(tmp_path, capsys):
     """The H1's velocity_limits (Unitree's h1.urdf) are below what the scaled G1 walk needs of its 5-DoF
-    legs: simulate stops before any physics with one line naming the joint, its speed and its limit."""
+    legs at the G1's step timing (the shipped H1 YAML without its ``gait`` choice): simulate stops before
+    any physics with one line naming the joint, its speed and its limit."""
+    from importlib import resources
+
+    text = (resources.files("gaitshift.robots") / "configs" / "h1.yaml").read_text()
+    plain = "\n".join(line for line in text.splitlines() if not line.startswith("gait:"))
+    (tmp_path / "h1-plain.yaml").write_text(plain.replace("name: h1", "name: h1-plain"))
     scaled = tmp_path / "h1-walk.yaml"
-    assert _run(["scale", "g1-walk", "--robot", "h1", "--out", str(scaled)], capsys)[0] == 0
+    assert _run(["scale", "g1-walk", "--robot", str(tmp_path / "h1-plain.yaml"), "--out", str(scaled)], capsys)[0] == 0
     code, _, err = _run(["simulate", str(scaled), "--out", str(tmp_path / "s.npz")], capsys)
     assert code == 2 and err.count("\n") == 1
     assert "rad/s, above its limit" in err and "(velocity_limits)" in err

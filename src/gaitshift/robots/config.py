@@ -78,6 +78,7 @@ class RobotConfig:
         step_width: lateral step width of scaled scenarios, m; None: ``foot_separation`` (YAML ``gait``).
         run_contact_length: the longest running stance travel, m (:mod:`gaitshift.gait.run_timing`);
             inf if the YAML's ``gait`` gives none (the nominal running timing at every speed).
+        step_time_scale: factor on the support times and strides of scaled scenarios (YAML ``gait``).
         source: the built-in name or YAML path it was loaded from.
     """
 
@@ -112,6 +113,7 @@ class RobotConfig:
     flight_scale: float = 1.0
     step_width: float | None = None
     run_contact_length: float = math.inf
+    step_time_scale: float = 1.0
     source: str = ""
     standing_computed: bool = field(default=False)
 
@@ -349,6 +351,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         flight_scale=cfg.gait.flight_scale,
         step_width=cfg.gait.step_width,
         run_contact_length=cfg.gait.run_contact_length or math.inf,
+        step_time_scale=cfg.gait.step_time_scale,
         source=source,
         standing_computed=computed,
     )

@@ -32,7 +32,9 @@
                        lateral step width instead of the standing foot separation (docs/robots.md);
                        ``run_contact_length`` (m, optional) the longest distance the body travels over one
                        running stance: faster runs shorten the stance to it and lengthen the flight
-                       (:mod:`gaitshift.gait.run_timing`, docs/simulation.md "Top speed")
+                       (:mod:`gaitshift.gait.run_timing`, docs/simulation.md "Top speed");
+                       ``step_time_scale`` (0 < s <= 1) multiplies the single and double support times
+                       and the stride (quicker, shorter steps at the same speed: less lateral sway)
 =====================  ========================================================================
 """
 
@@ -75,6 +77,7 @@ class Gait(StrictModel):
     flight_scale: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 1.0
     step_width: Length | None = None
     run_contact_length: Length | None = None
+    step_time_scale: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 1.0
 
 
 class IkWeights(StrictModel):

@@ -29,7 +29,12 @@ robot walks the same gait when every length scales with its legs. The rule:
    the mean vertical force of a running stance is m g (T_s + T_f) / T_s, so a robot whose legs are weak
    for its weight (knee torque limit / (m g leg length)) runs with a shorter flight. ``step_width``
    replaces the foot separation of rule 3 (a robot whose standing feet are wide apart for its height
-   swings its CoM sideways by about that much at every step).
+   swings its CoM sideways by about that much at every step). ``step_time_scale`` s multiplies the
+   single and double support times (TV-LIPM ``timing``; VHIP ``step_period``) and the stride
+   (``profile.max_stride``; a VHIP stride is speed x period), so the speed is kept: the LIPM's lateral
+   sway over a step of duration T between feet at +-w is w (1 - 1/cosh(omega T / 2)), omega =
+   sqrt(g/h), and a leg that cannot roll its foot (no ankle roll) can make only a small one; the
+   shorter stride also keeps the trailing foot flat within the ankle's range.
 
 Angles (yaw, yaw rate), gravity and the sampling step are unchanged.
 """
@@ -134,6 +139,7 @@ def scale_scenario(
         data["profile"]["step_width"] = width
     if isinstance(data.get("timing"), dict) and data["timing"].get("flight") is not None:
         data["timing"]["flight"] *= robot.flight_scale
+    _scale_steps(data, scenario.planner, robot.step_time_scale)
     if data.get("footsteps"):
         data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
     data["name"] = name or f"{robot.name}-{scenario.name}"
@@ -144,9 +150,19 @@ def scale_scenario(
         + ("timing kept" if tau == 1.0 else f"durations x sqrt(lambda) = {tau:.4f}")
         + (f", flight x {robot.flight_scale:g}" if robot.flight_scale != 1.0 else "")
         + (f", step width {width:g} m" if robot.step_width is not None else "")
+        + (f", steps x {robot.step_time_scale:g}" if robot.step_time_scale != 1.0 else "")
         + ")"
     ).strip(" -")
     return load_scenario(data)
+
+
+def _scale_steps(data: dict[str, Any], planner: str, s: float) -> None:
+    """Quicker, shorter steps (rule 5, ``step_time_scale`` s): support times and stride x s."""
+    if s == 1.0:
+        return
+    keys = {"tvlip": ("timing.single_support", "timing.double_support", "profile.max_stride"), "vhip": ("step_period",)}
+    for key in keys.get(planner, ()):
+        _scale_path(data, key, s)
 
 
 def _scale_path(data: dict[str, Any], dotted: str, lam: float) -> None:
