@@ -15,7 +15,7 @@ from gaitshift.planners.registry import planner_for
 from gaitshift.scenario.loader import load_scenario
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["plan", "robot_facts", "with_robot"]
+__all__ = ["plan", "plan_robot", "robot_facts", "with_robot"]
 
 
 def robot_facts(scenario: Any) -> Any:
@@ -41,23 +41,39 @@ def with_robot(scenario: Any, robot: str | None) -> tuple[Any, str]:
     Raises:
         InputError: the two robots differ, or either does not load.
     """
+    own = getattr(scenario, "robot", None)
+    if robot is not None and own is None and "robot" in type(scenario).model_fields:
+        scenario = scenario.model_copy(update={"robot": robot})
+    return scenario, _one_robot(own, robot, scenario.name)
+
+
+def plan_robot(traj: Trajectory, robot: str | None) -> str:
+    """The robot a plan is for, from the ``robot`` of the scenario it was planned from (``traj.meta``)
+    and a ``--robot`` choice, by the rules of :func:`with_robot` (no robot anywhere: ``g1``).
+
+    Raises:
+        InputError: the two robots differ, or either does not load.
+    """
+    scenario = traj.meta.get("scenario")
+    own = scenario.get("robot") if isinstance(scenario, dict) else None
+    name = scenario.get("name", "the plan") if isinstance(scenario, dict) else "the plan"
+    return _one_robot(None if own is None else str(own), robot, str(name))
+
+
+def _one_robot(own: str | None, robot: str | None, scenario: str) -> str:
+    """``robot`` if given and the same robot as the scenario's own ``own``; else ``own``, else g1."""
     from gaitshift.robots.config import load_robot
 
-    own = getattr(scenario, "robot", None)
     if robot is None:
-        return scenario, own or "g1"
-    if own is None:
-        if "robot" in type(scenario).model_fields:
-            scenario = scenario.model_copy(update={"robot": robot})
-        return scenario, robot
-    if load_robot(own) != load_robot(robot):
+        return own or "g1"
+    if own is not None and load_robot(own) != load_robot(robot):
         raise InputError(
             "--robot",
             robot,
-            f"the scenario's robot {own!r} (scenario {scenario.name} is made for {own}; scale it first: "
-            f"gaitshift scale {scenario.name} --robot {robot} --out {load_robot(robot).name}.yaml)",
+            f"the scenario's robot {own!r} (scenario {scenario} is made for {own}; scale it first: "
+            f"gaitshift scale {scenario} --robot {robot} --out {load_robot(robot).name}.yaml)",
         )
-    return scenario, robot
+    return robot
 
 
 def plan(scenario: Any) -> Trajectory:

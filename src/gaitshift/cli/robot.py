@@ -8,7 +8,10 @@ import typer
 
 from gaitshift.cli.app import app, out_file
 
-_ROBOT_HELP = "Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
+_ROBOT_HELP = (
+    "Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path (default: the robot the scenario "
+    "or plan names, else g1)."
+)
 _SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a scenario (built-in name or YAML)."
 
 
@@ -29,16 +32,18 @@ def robots_cmd() -> None:
 @app.command("wholebody")
 def wholebody_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option("g1", "--robot", help=_ROBOT_HELP),
+    robot: str | None = typer.Option(None, "--robot", help=_ROBOT_HELP),
     out: Path = typer.Option(..., "--out", help="Output .npz with t, qpos, qvel and meta (JSON)."),
     rate: float | None = typer.Option(None, "--rate", help="Output rate, Hz (1/(k dt)); default: plan step."),
 ) -> None:
     """Whole-body IK: joint trajectories that reproduce the planned CoM and sole poses."""
+    from gaitshift.api import plan_robot
     from gaitshift.wholebody.ik import wholebody
     from gaitshift.wholebody.joints import load_plan
 
     out_file(out, "--out", (".npz",))
-    joints = wholebody(load_plan(file), robot, rate=rate)
+    traj = load_plan(file)
+    joints = wholebody(traj, plan_robot(traj, robot), rate=rate)
     joints.save(out)
     ik = joints.meta["ik"]
     typer.echo(
@@ -55,7 +60,7 @@ def wholebody_cmd(
 @app.command("animate")
 def animate_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option("g1", "--robot", help=_ROBOT_HELP),
+    robot: str | None = typer.Option(None, "--robot", help=_ROBOT_HELP),
     out: Path = typer.Option(..., "--out", help="Output .mp4."),
     joints: Path | None = typer.Option(None, "--joints", help="Reuse joint trajectories from `gaitshift wholebody`."),
     rate: float = typer.Option(500.0, "--rate", help="IK rate, Hz (when --joints is not given)."),
@@ -64,12 +69,15 @@ def animate_cmd(
     height: int = typer.Option(360, "--height", help="Video height, pixels (even)."),
 ) -> None:
     """Offscreen MP4 of the whole-body motion with the CoM, ZMP and footsteps drawn."""
-    from gaitshift.wholebody.joints import JointTrajectory
+    from gaitshift.api import plan_robot
+    from gaitshift.wholebody.joints import JointTrajectory, load_plan
     from gaitshift.wholebody.render import animate
 
     out_file(out, "--out", (".mp4",))
     jt = JointTrajectory.load(joints) if joints is not None else None
-    path, _ = animate(file, out, robot=robot, rate=rate, fps=fps, width=width, height=height, joints=jt)
+    traj = load_plan(file)
+    name = plan_robot(traj, robot)
+    path, _ = animate(traj, out, robot=name, rate=rate, fps=fps, width=width, height=height, joints=jt)
     typer.echo(f"wrote {path}")
 
 
