@@ -32,7 +32,11 @@
                        lateral step width instead of the standing foot separation (docs/robots.md);
                        ``run_contact_length`` (m, optional) the longest distance the body travels over one
                        running stance: faster runs shorten the stance to it and lengthen the flight
-                       (:mod:`gaitshift.gait.run_timing`, docs/simulation.md "Top speed")
+                       (:mod:`gaitshift.gait.run_timing`, docs/simulation.md "Top speed");
+                       ``max_stride`` (m, optional) caps the stride of scaled scenarios (TV-LIPM
+                       ``profile.max_stride``, VHIP ``limits.max_stride``; explicit footholds are kept);
+                       ``swing_height`` (m, optional) the swing-foot clearance instead of lambda x the
+                       scenario's (TV-LIPM ``swing_height``, VHIP ``swing_apex``)
 =====================  ========================================================================
 """
 
@@ -75,6 +79,8 @@ class Gait(StrictModel):
     flight_scale: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 1.0
     step_width: Length | None = None
     run_contact_length: Length | None = None
+    max_stride: Length | None = None
+    swing_height: Length | None = None
 
 
 class IkWeights(StrictModel):

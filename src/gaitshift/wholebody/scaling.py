@@ -29,7 +29,12 @@ robot walks the same gait when every length scales with its legs. The rule:
    the mean vertical force of a running stance is m g (T_s + T_f) / T_s, so a robot whose legs are weak
    for its weight (knee torque limit / (m g leg length)) runs with a shorter flight. ``step_width``
    replaces the foot separation of rule 3 (a robot whose standing feet are wide apart for its height
-   swings its CoM sideways by about that much at every step).
+   swings its CoM sideways by about that much at every step). ``max_stride`` caps the stride (TV-LIPM
+   ``profile.max_stride``, VHIP ``limits.max_stride``: min(lambda x the scenario's, cap); explicit
+   footholds are kept) and ``swing_height`` replaces the swing-foot clearance (TV-LIPM ``swing_height``,
+   VHIP ``swing_apex``): a robot whose joints are slow for its size (viscous damping b, torque limit
+   tau_max: no-load speed tau_max / b) needs smaller joint excursions per step than geometric
+   similarity gives.
 
 Angles (yaw, yaw rate), gravity and the sampling step are unchanged.
 """
@@ -134,6 +139,7 @@ def scale_scenario(
         data["profile"]["step_width"] = width
     if isinstance(data.get("timing"), dict) and data["timing"].get("flight") is not None:
         data["timing"]["flight"] *= robot.flight_scale
+    _apply_gait_caps(data, scenario.planner, robot)
     if data.get("footsteps"):
         data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
     data["name"] = name or f"{robot.name}-{scenario.name}"
@@ -144,9 +150,27 @@ def scale_scenario(
         + ("timing kept" if tau == 1.0 else f"durations x sqrt(lambda) = {tau:.4f}")
         + (f", flight x {robot.flight_scale:g}" if robot.flight_scale != 1.0 else "")
         + (f", step width {width:g} m" if robot.step_width is not None else "")
+        + (f", stride <= {robot.max_stride:g} m" if robot.max_stride is not None else "")
+        + (f", swing height {robot.swing_height:g} m" if robot.swing_height is not None else "")
         + ")"
     ).strip(" -")
     return load_scenario(data)
+
+
+#: where the robot YAML's ``gait.max_stride`` / ``gait.swing_height`` go, per planner (rule 5)
+STRIDE_KEY = {"tvlip": ("profile", "max_stride"), "vhip": ("limits", "max_stride")}
+SWING_KEY = {"tvlip": "swing_height", "vhip": "swing_apex"}
+
+
+def _apply_gait_caps(data: dict[str, Any], planner: str, robot: RobotConfig) -> None:
+    """The robot's stride cap and swing height (rule 5 of the module docstring) on the scaled data."""
+    if robot.max_stride is not None and planner in STRIDE_KEY:
+        parent, leaf = STRIDE_KEY[planner]
+        node = data.get(parent)
+        if isinstance(node, dict) and node.get(leaf) is not None:
+            node[leaf] = min(node[leaf], robot.max_stride)
+    if robot.swing_height is not None and planner in SWING_KEY:
+        data[SWING_KEY[planner]] = robot.swing_height
 
 
 def _scale_path(data: dict[str, Any], dotted: str, lam: float) -> None:
