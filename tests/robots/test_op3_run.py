@@ -37,3 +37,14 @@ def test_op3_scenarios_stay_below_the_servo_speed_bound():
         ik = WholeBodyIK(robot, IKSettings()).solve(gaitshift.plan(sc), 100.0, check_velocities=False)
         peak = np.max(np.abs(ik.qvel[:, dofs]), axis=0)
         assert np.all(peak < robot.damping_speed), name
+
+
+def test_wholebody_takes_the_scenarios_own_robot(cli, tmp_path):
+    """``gaitshift wholebody op3-walk`` solves the IK for the OP3 (the scenario's robot) without
+    ``--robot``; a ``--robot`` other than the scenario's is one error line, exit 2, no file."""
+    out = tmp_path / "j.npz"
+    code, text, _ = cli(["wholebody", "op3-walk", "--rate", "50", "--out", str(out)])
+    assert code == 0 and text.startswith("op3:") and out.is_file()
+    out.unlink()
+    code, _, err = cli(["wholebody", "op3-walk", "--robot", "g1", "--rate", "50", "--out", str(out)])
+    assert code == 2 and err.count("\n") == 1 and "op3" in err and not out.exists()

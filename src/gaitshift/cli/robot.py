@@ -9,6 +9,7 @@ import typer
 from gaitshift.cli.app import app, out_file
 
 _ROBOT_HELP = "Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path."
+_SOURCE_ROBOT_HELP = _ROBOT_HELP[:-1] + " (default: the scenario's robot, else g1)."
 _SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a scenario (built-in name or YAML)."
 
 
@@ -26,10 +27,22 @@ def robots_cmd() -> None:
         )
 
 
+def _source_robot(source: str, robot: str | None) -> str:
+    """The robot of ``wholebody``/``animate``: for a scenario source, its own robot and ``--robot`` as
+    ``simulate`` resolves them (:func:`gaitshift.api.with_robot`; different robots: exit 2); for a
+    trajectory file, ``--robot``, else g1."""
+    from gaitshift.api import with_robot
+    from gaitshift.scenario import load_scenario
+
+    if Path(source).suffix.lower() in (".npz", ".csv", ".json"):
+        return robot or "g1"
+    return with_robot(load_scenario(source), robot)[1]
+
+
 @app.command("wholebody")
 def wholebody_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option("g1", "--robot", help=_ROBOT_HELP),
+    robot: str | None = typer.Option(None, "--robot", help=_SOURCE_ROBOT_HELP),
     out: Path = typer.Option(..., "--out", help="Output .npz with t, qpos, qvel and meta (JSON)."),
     rate: float | None = typer.Option(None, "--rate", help="Output rate, Hz (1/(k dt)); default: plan step."),
 ) -> None:
@@ -38,7 +51,7 @@ def wholebody_cmd(
     from gaitshift.wholebody.joints import load_plan
 
     out_file(out, "--out", (".npz",))
-    joints = wholebody(load_plan(file), robot, rate=rate)
+    joints = wholebody(load_plan(file), _source_robot(file, robot), rate=rate)
     joints.save(out)
     ik = joints.meta["ik"]
     typer.echo(
@@ -55,7 +68,7 @@ def wholebody_cmd(
 @app.command("animate")
 def animate_cmd(
     file: str = typer.Argument(..., help=_SOURCE_HELP),
-    robot: str = typer.Option("g1", "--robot", help=_ROBOT_HELP),
+    robot: str | None = typer.Option(None, "--robot", help=_SOURCE_ROBOT_HELP),
     out: Path = typer.Option(..., "--out", help="Output .mp4."),
     joints: Path | None = typer.Option(None, "--joints", help="Reuse joint trajectories from `gaitshift wholebody`."),
     rate: float = typer.Option(500.0, "--rate", help="IK rate, Hz (when --joints is not given)."),
@@ -69,7 +82,9 @@ def animate_cmd(
 
     out_file(out, "--out", (".mp4",))
     jt = JointTrajectory.load(joints) if joints is not None else None
-    path, _ = animate(file, out, robot=robot, rate=rate, fps=fps, width=width, height=height, joints=jt)
+    path, _ = animate(
+        file, out, robot=_source_robot(file, robot), rate=rate, fps=fps, width=width, height=height, joints=jt
+    )
     typer.echo(f"wrote {path}")
 
 
