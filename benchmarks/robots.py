@@ -1,7 +1,9 @@
 """Per-robot sweep of issue 12: for each shipped robot, scale a G1 walk and walk-run-walk scenario to it
-(``--time-scale froude`` for OP3), solve the whole-body IK (joint speeds not refused, measured: peak and
-fraction of ``RobotConfig.speed_limits``), simulate closed loop (no joint-speed pre-check, unlike the
-CLI), and print one table row per run with the numbers of docs/robots.md. Long (minutes): run alone.
+(timing kept; the robot YAML's ``gait`` choices applied), solve the whole-body IK (joint speeds not
+refused, measured: peak and fraction of ``RobotConfig.speed_limits``), simulate closed loop (no
+joint-speed pre-check, unlike the CLI; the fraction of walking / running time with a leg joint at
+>= 0.95 of its torque limit), and print one table row per run with the numbers of docs/robots.md.
+Long (minutes): run alone.
 
     python benchmarks/robots.py [ROBOT ...]
 """
@@ -16,13 +18,14 @@ from gaitshift.api import plan
 from gaitshift.robots import RobotConfig, load_robot
 from gaitshift.robots.statics import standing_statics
 from gaitshift.sim.loop import SimOptions, simulate
+from gaitshift.trajectory.contract import Trajectory
 from gaitshift.wholebody.ik import IKInfeasibleError, IKSettings, WholeBodyIK
 from gaitshift.wholebody.scaling import scale_scenario
 
 ROBOTS = ("g1", "t1", "h1", "op3", "berkeley")
 SCENARIOS = ("g1-walk", "g1-walk-run-walk")
-#: robots planned with Froude time scaling (durations x sqrt(lambda))
-FROUDE = ("op3",)
+#: robots planned with Froude time scaling (durations x sqrt(lambda)); none since the OP3's ``gait`` key
+FROUDE: tuple[str, ...] = ()
 
 
 def run(name: str, scenario: str) -> dict[str, object]:
@@ -32,6 +35,7 @@ def run(name: str, scenario: str) -> dict[str, object]:
     traj = plan(sc)
     row: dict[str, object] = {"robot": name, "scenario": scenario, "com_height": traj.meta.get("height")}
     row.update(step_width=sc.profile.step_width, flight_time=sc.timing.flight)  # the YAML's gait choices
+    row.update(max_stride=sc.profile.max_stride, swing_height=sc.swing_height)
     try:
         ik = WholeBodyIK(robot, IKSettings()).solve(traj, 1.0 / (10 * traj.dt), check_velocities=False)
         model = robot.model()
@@ -50,6 +54,7 @@ def run(name: str, scenario: str) -> dict[str, object]:
         row["ik"] = str(exc)
     res = simulate(traj, SimOptions(state="oracle"), robot=robot)  # the table is on the truth (docs)
     m = res.metrics
+    row.update(leg_saturation(res.arrays, traj, robot))
     strides = np.diff(traj.footsteps[:, 0])
     row.update(
         fell=m["fell"],
@@ -62,6 +67,17 @@ def run(name: str, scenario: str) -> dict[str, object]:
         torque_frac=m.get("peak_torque_fraction"),
     )
     return row
+
+
+def leg_saturation(a: dict[str, np.ndarray], traj: Trajectory, robot: RobotConfig) -> dict[str, float | None]:
+    """Fraction of the simulated walking / running time with some leg joint at >= 0.95 of its torque limit."""
+    legs = [robot.joint_names.index(n) for n in robot.leg_joints]
+    sat = np.any(np.abs(a["tau"][:, legs]) >= 0.95 * robot.torque_limit[legs], axis=1)
+    running = np.interp(a["t"], traj.t, traj.gait) > 1.5
+    return {
+        "leg_sat_walk": float(np.mean(sat[~running])) if np.any(~running) else None,
+        "leg_sat_run": float(np.mean(sat[running])) if np.any(running) else None,
+    }
 
 
 def knee_strength(robot: RobotConfig) -> float:

@@ -139,3 +139,22 @@ def test_a_robots_ik_weights_replace_the_ik_defaults_and_unknown_ones_are_named(
     (tmp_path / "c.yaml").write_text(text.replace("name: berkeley", "name: c") + "\nik: {max_iter: 3.0}\n")
     with pytest.raises(InputError, match=r"robot\.ik\.max_iter"):
         load_robot(str(tmp_path / "c.yaml"))
+
+
+def test_a_robots_gait_key_caps_the_stride_and_sets_the_swing_height(tmp_path):
+    """``gait: {max_stride, swing_height}``: the scaled plan's longest step is the cap (lambda x the
+    scenario's stride is longer) and its swing feet rise to the YAML's clearance, not lambda x the
+    scenario's."""
+    text = (resources.files("gaitshift.robots") / "configs" / "op3.yaml").read_text()
+    runs = {}
+    for tag, body in (("plain", text.split("\ngait:")[0]), ("shipped", text)):
+        path = tmp_path / f"op3-{tag}.yaml"
+        path.write_text(body.replace("name: op3", f"name: op3-{tag}"))
+        sc = scale_scenario("g1-walk-run-walk", str(path))
+        runs[tag] = (sc, gaitshift.plan(sc))
+    for sc, traj in runs.values():
+        lift = np.max(traj.foot_pos[:, :, 2]) - np.min(traj.foot_pos[:, :, 2])
+        assert np.isclose(lift, sc.swing_height, rtol=0.02)
+    (plain, plain_traj), (shipped, shipped_traj) = runs["plain"], runs["shipped"]
+    assert np.max(np.diff(plain_traj.footsteps[:, 0])) > 0.1 and plain.swing_height > 0.015
+    assert np.isclose(np.max(np.diff(shipped_traj.footsteps[:, 0])), 0.04) and np.isclose(shipped.swing_height, 0.01)

@@ -79,6 +79,8 @@ class RobotConfig:
         run_contact_length: the longest running stance travel, m (:mod:`gaitshift.gait.run_timing`);
             inf if the YAML's ``gait`` gives none (the nominal running timing at every speed).
         step_time_scale: factor on the support times and strides of scaled scenarios (YAML ``gait``).
+        max_stride: cap on the stride of scaled scenarios, m; None: lambda x the scenario's (``gait``).
+        swing_height: swing-foot clearance of scaled scenarios, m; None: lambda x the scenario's (``gait``).
         source: the built-in name or YAML path it was loaded from.
     """
 
@@ -114,6 +116,8 @@ class RobotConfig:
     step_width: float | None = None
     run_contact_length: float = math.inf
     step_time_scale: float = 1.0
+    max_stride: float | None = None
+    swing_height: float | None = None
     source: str = ""
     standing_computed: bool = field(default=False)
 
@@ -352,6 +356,8 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         step_width=cfg.gait.step_width,
         run_contact_length=cfg.gait.run_contact_length or math.inf,
         step_time_scale=cfg.gait.step_time_scale,
+        max_stride=cfg.gait.max_stride,
+        swing_height=cfg.gait.swing_height,
         source=source,
         standing_computed=computed,
     )

@@ -35,6 +35,10 @@
                        (:mod:`gaitshift.gait.run_timing`, docs/simulation.md "Top speed");
                        ``step_time_scale`` (0 < s <= 1) multiplies the single and double support times
                        and the stride (quicker, shorter steps at the same speed: less lateral sway)
+                       ``max_stride`` (m, optional) caps the stride of scaled scenarios (TV-LIPM
+                       ``profile.max_stride``, VHIP ``limits.max_stride``; explicit footholds are kept);
+                       ``swing_height`` (m, optional) the swing-foot clearance instead of lambda x the
+                       scenario's (TV-LIPM ``swing_height``, VHIP ``swing_apex``)
 =====================  ========================================================================
 """
 
@@ -78,6 +82,8 @@ class Gait(StrictModel):
     step_width: Length | None = None
     run_contact_length: Length | None = None
     step_time_scale: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 1.0
+    max_stride: Length | None = None
+    swing_height: Length | None = None
 
 
 class IkWeights(StrictModel):

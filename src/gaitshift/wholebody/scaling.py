@@ -34,7 +34,12 @@ robot walks the same gait when every length scales with its legs. The rule:
    (``profile.max_stride``; a VHIP stride is speed x period), so the speed is kept: the LIPM's lateral
    sway over a step of duration T between feet at +-w is w (1 - 1/cosh(omega T / 2)), omega =
    sqrt(g/h), and a leg that cannot roll its foot (no ankle roll) can make only a small one; the
-   shorter stride also keeps the trailing foot flat within the ankle's range.
+   shorter stride also keeps the trailing foot flat within the ankle's range. Then ``max_stride`` caps
+   the stride (TV-LIPM ``profile.max_stride``, VHIP ``limits.max_stride``: min(lambda x the scenario's, cap); explicit
+   footholds are kept) and ``swing_height`` replaces the swing-foot clearance (TV-LIPM ``swing_height``,
+   VHIP ``swing_apex``): a robot whose joints are slow for its size (viscous damping b, torque limit
+   tau_max: no-load speed tau_max / b) needs smaller joint excursions per step than geometric
+   similarity gives.
 
 Angles (yaw, yaw rate), gravity and the sampling step are unchanged.
 """
@@ -140,6 +145,7 @@ def scale_scenario(
     if isinstance(data.get("timing"), dict) and data["timing"].get("flight") is not None:
         data["timing"]["flight"] *= robot.flight_scale
     _scale_steps(data, scenario.planner, robot.step_time_scale)
+    _apply_gait_caps(data, scenario.planner, robot)
     if data.get("footsteps"):
         data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
     data["name"] = name or f"{robot.name}-{scenario.name}"
@@ -151,6 +157,8 @@ def scale_scenario(
         + (f", flight x {robot.flight_scale:g}" if robot.flight_scale != 1.0 else "")
         + (f", step width {width:g} m" if robot.step_width is not None else "")
         + (f", steps x {robot.step_time_scale:g}" if robot.step_time_scale != 1.0 else "")
+        + (f", stride <= {robot.max_stride:g} m" if robot.max_stride is not None else "")
+        + (f", swing height {robot.swing_height:g} m" if robot.swing_height is not None else "")
         + ")"
     ).strip(" -")
     return load_scenario(data)
@@ -163,6 +171,22 @@ def _scale_steps(data: dict[str, Any], planner: str, s: float) -> None:
     keys = {"tvlip": ("timing.single_support", "timing.double_support", "profile.max_stride"), "vhip": ("step_period",)}
     for key in keys.get(planner, ()):
         _scale_path(data, key, s)
+
+
+#: where the robot YAML's ``gait.max_stride`` / ``gait.swing_height`` go, per planner (rule 5)
+STRIDE_KEY = {"tvlip": ("profile", "max_stride"), "vhip": ("limits", "max_stride")}
+SWING_KEY = {"tvlip": "swing_height", "vhip": "swing_apex"}
+
+
+def _apply_gait_caps(data: dict[str, Any], planner: str, robot: RobotConfig) -> None:
+    """The robot's stride cap and swing height (rule 5 of the module docstring) on the scaled data."""
+    if robot.max_stride is not None and planner in STRIDE_KEY:
+        parent, leaf = STRIDE_KEY[planner]
+        node = data.get(parent)
+        if isinstance(node, dict) and node.get(leaf) is not None:
+            node[leaf] = min(node[leaf], robot.max_stride)
+    if robot.swing_height is not None and planner in SWING_KEY:
+        data[SWING_KEY[planner]] = robot.swing_height
 
 
 def _scale_path(data: dict[str, Any], dotted: str, lam: float) -> None:
