@@ -46,6 +46,9 @@ class CaptureSettings:
     reach_fraction: float = 0.95  # share of the leg length the knee may straighten to (step_limits eq. 1)
     predict_touchdown: bool = True  # the error predicted at the touchdown, exp(omega tau) (module docstring)
     anchor: bool = True  # estimated state: keep the plan on the measured stance soles (PlanShift.anchor_on)
+    # on terrain a corrected touchdown keeps this many std of the position estimate (along x) more from
+    # its tread's edges (control/reference.py; 0 on the truth)
+    edge_sigmas: float = 2.0
 
 
 def capture_point_offset(

@@ -6,7 +6,9 @@
 * Swinging feet: the plan's sole path, translated by the plan shift, plus the foot's own capture-point
   correction blended in with the minimum-jerk profile s(u) of the swing progress u
   (:func:`gaitshift.gait.swing.min_jerk`); on terrain the corrected touchdown is clipped to the planned
-  foothold's tread, the sole ``tread_half`` from its edges (a step adjusted onto a stair edge tips the foot),
+  foothold's tread, the sole ``tread_half`` from its edges (a step adjusted onto a stair edge tips the foot)
+  plus ``edge_sigmas`` standard deviations of the controller's position along x (the terrain is known in
+  the world frame, the controller acts in its estimated one: a heel 3 cm short of the edge lands on it),
   and the clipped correction is written back to the step feedback (the plan shift takes it at touchdown);
   a swing that spans a flight phase (running) gets an extra lift :func:`swing_lift` that rises fast
   after lift-off and sets down slowly, its peak ``h = clip(lift_per_speed |v|, flight_clearance,
@@ -62,8 +64,10 @@ def tick_reference(
     sched: FootScheduler,
     shift: PlanShift,
     settings: SwingSettings,
+    pos_std: float = 0.0,
 ) -> TickReference:
-    """The reference at plan time ``t`` (s), plan sample ``i`` (see module docstring)."""
+    """The reference at plan time ``t`` (s), plan sample ``i`` (see module docstring); ``pos_std`` (m):
+    the std of the controller's horizontal position along x (its estimate's; 0 on the truth)."""
     foot_ref = traj.foot_pos[i].copy()
     foot_vel = plan.foot_vel[i].copy()
     foot_acc = plan.foot_acc[i].copy()
@@ -76,7 +80,8 @@ def tick_reference(
             land_x = float(traj.foot_pos[min(round(sched.swing_end[s] / traj.dt), len(traj) - 1), s, 0])
             want = land_x + shift.shift[0] + shift.offset[s, 0]
             # written back: at touchdown the plan shift takes the correction the foot was given
-            shift.offset[s, 0] += plan.terrain.clamp_sole(land_x, want, plan.tread_half) - want
+            clamped = plan.terrain.clamp_sole(land_x, want, plan.tread_half, shift.settings.edge_sigmas * pos_std)
+            shift.offset[s, 0] += clamped - want
         foot_ref[s] += shift.shift + shift.offset[s] * min_jerk(np.array(u))
         if sched.swing_flight[s] and 0.0 <= u <= 1.0:
             # running swing: fast rise after lift-off, set down with a vertical speed; scaled with speed

@@ -105,14 +105,27 @@ class Terrain:
         under = b[(b > x - half) & (b < x + half)]
         return float(under[0]) if len(under) else None
 
-    def clamp_sole(self, x: float, target: float, half: float) -> float:
+    def clamp_sole(self, x: float, target: float, half: float, margin: float = 0.0) -> float:
         """``target`` (m) clipped so that a sole of half length ``half`` (m) stays between the two breaks
-        around ``x`` (the piece of ground under the planned foothold ``x``); ``target`` when the gap is
-        shorter than the sole."""
+        around ``x`` (the piece of ground under the planned foothold ``x``), and ``margin`` (m) more from
+        a break that is a step in height (a stair or step edge; not a ramp's kink), both margins shrunk
+        alike where the piece leaves no room for them; ``target`` when the gap is shorter than the sole."""
         b = self.breaks()
-        lo = float(b[b <= x].max()) + half if np.any(b <= x) else -math.inf
-        hi = float(b[b > x].min()) - half if np.any(b > x) else math.inf
-        return target if lo > hi else min(max(target, lo), hi)
+        below, above = b[b <= x], b[b > x]
+        lo = float(below.max()) + half if len(below) else -math.inf
+        hi = float(above.min()) - half if len(above) else math.inf
+        if lo > hi:
+            return target
+        m_lo = max(margin, 0.0) if len(below) and self.is_step(float(below.max())) else 0.0
+        m_hi = max(margin, 0.0) if len(above) and self.is_step(float(above.min())) else 0.0
+        if m_lo + m_hi > hi - lo:
+            scale = (hi - lo) / (m_lo + m_hi)
+            m_lo, m_hi = m_lo * scale, m_hi * scale
+        return min(max(target, lo + m_lo), hi - m_hi)
+
+    def is_step(self, x: float) -> bool:
+        """Whether the ground's height jumps at ``x`` (m)."""
+        return abs(float(self.height(x - 1e-9)) - float(self.height(x))) > 1e-7
 
     def as_list(self) -> list[list[float]]:
         """``[[x0, x1, z0, z1], ...]`` (the trajectory's ``meta["terrain"]``)."""

@@ -189,7 +189,8 @@ class _Run:
         left = np.maximum(sched.swing_end - tp, 0.0), float(self.plan.heading[i])
         ctx = SwingContext(planned, measured, *left, np.where(sched.stance, np.maximum(sched.lift_at - tp, 0.0), 0.0))
         shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i], ctx)
-        ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.opts.swing)
+        pos_std = 0.0 if self.plan.terrain.flat else self.sensing.position_std()
+        ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.opts.swing, pos_std)
         self.ctrl.gains = self.sensing.friction(self.ctrl.gains, view)
         tau, info = self.ctrl.compute(c, ref)
         tau = self.sensing.actuate(d, tau, info.qdd)  # the only write to the plant, with the push

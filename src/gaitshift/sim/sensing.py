@@ -241,6 +241,15 @@ class Sensing:
             self.mu = max(FRICTION_MIN, FRICTION_DROP * self.mu)
         return gains if gains.mu == self.mu else replace(gains, mu=self.mu)
 
+    def position_std(self) -> float:
+        """Std (m) of the controller's base position along x: the estimator's (the InEKF's world-frame
+        covariance, error order R, v, p: row 6), 0 on the truth or for a filter without a covariance."""
+        filt = self.estimator.filter if self.has_imu and not self.oracle else None
+        world_cov = getattr(filt, "world_covariance", None)
+        if world_cov is None:
+            return 0.0
+        return float(np.sqrt(max(world_cov()[6, 6], 0.0)))
+
     def actuate(self, d: Any, tau: np.ndarray, qdd: np.ndarray | None) -> np.ndarray:
         """Send the command: write into the plant the torques that act now (after the latency)."""
         applied = self.pipe.send(tau, qdd)

@@ -35,6 +35,20 @@ def test_terrain_height_slope_and_breaks():
         Terrain((Piece(0.0, 1.0, 0.1, 0.1), Piece(0.5, 2.0, 0.1, 0.1)))
 
 
+def test_a_clamped_sole_keeps_the_margin_from_height_steps_only_and_centres_on_a_short_tread():
+    t = Terrain((Piece(0.0, 1.0, 0.0, 0.1), Piece(1.0, 2.0, 0.1, 0.1), Piece(2.0, 2.25, 0.2, 0.2)))
+    half = 0.09
+    # the tread 1-2 m: a ramp's kink at 1 (no margin), a 10 cm step at 2 (margin)
+    assert t.is_step(2.0) and not t.is_step(1.0)
+    assert t.clamp_sole(1.5, 0.9, half, 0.05) == pytest.approx(1.0 + half)
+    assert t.clamp_sole(1.5, 2.0, half, 0.05) == pytest.approx(2.0 - half - 0.05)
+    assert t.clamp_sole(1.5, 2.0, half, 0.0) == pytest.approx(2.0 - half)
+    # the 0.25 m tread 2-2.25 has 0.07 m of room for a 0.18 m sole: both margins shrink, the sole centres
+    assert t.clamp_sole(2.1, 2.0, half, 0.05) == pytest.approx(2.125)
+    assert t.clamp_sole(2.1, 2.3, half, 0.05) == pytest.approx(2.125)
+    assert t.clamp_sole(2.1, 2.1, half, 0.01) == pytest.approx(2.1)  # inside the margins: untouched
+
+
 def test_footholds_and_stance_soles_sit_on_the_terrain(planned):
     sc, traj = planned
     ground = terrain_of(sc.terrain)
