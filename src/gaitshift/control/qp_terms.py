@@ -1,5 +1,5 @@
-"""Small pieces of the whole-body QP: the cross-product matrix, rotation errors, friction pyramids,
-and the QP solve (daqp called directly, quadprog through ``qpsolvers`` as the fallback)."""
+"""Small pieces of the whole-body QP: the cross-product matrix, rotation errors and the QP solve (daqp
+called directly, quadprog through ``qpsolvers`` as the fallback)."""
 
 from __future__ import annotations
 
@@ -14,15 +14,15 @@ import qpsolvers
 #: what stands for an absent bound in the daqp form (daqp's own convention)
 INF = 1e30
 
-#: (3, 9): ``v @ _SKEW`` is the row-major flattened [v]x
-_SKEW = np.zeros((3, 9))
-_SKEW[[2, 1, 2, 0, 1, 0], [1, 2, 3, 5, 6, 7]] = [-1.0, 1.0, 1.0, -1.0, -1.0, 1.0]
+#: (3, 9): ``v @ SKEW_BASIS`` is the row-major flattened [v]x (for v of any leading shape)
+SKEW_BASIS = np.zeros((3, 9))
+SKEW_BASIS[[2, 1, 2, 0, 1, 0], [1, 2, 3, 5, 6, 7]] = [-1.0, 1.0, 1.0, -1.0, -1.0, 1.0]
 
 
 def skew(v: np.ndarray) -> np.ndarray:
     """[v]x of one vector (3,) or of a stack (..., 3), shape (..., 3, 3): skew(v) @ w = v x w."""
     v = np.asarray(v, float)
-    return (v @ _SKEW).reshape(*v.shape[:-1], 3, 3)
+    return (v @ SKEW_BASIS).reshape(*v.shape[:-1], 3, 3)
 
 
 def rotation_error(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
@@ -34,31 +34,20 @@ def rotation_error(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
     return e
 
 
-def yaw_error(yaw: float, quat: np.ndarray, pitch: float = 0.0) -> np.ndarray:
+def yaw_error(yaw: float, quat: np.ndarray, pitch: float = 0.0, out: np.ndarray | None = None) -> np.ndarray:
     """:func:`rotation_error` of the orientation of unit quaternion ``quat`` (w, x, y, z) toward
     ``rot_z(yaw) @ rot_y(-pitch)`` (a sole pitched with a ramp rising by ``pitch`` along its heading),
-    computed on quaternions: the rotation vector of ``q_ref (x) quat^-1``, rad, (3,)."""
+    computed on quaternions: the rotation vector of ``q_ref (x) quat^-1``, rad, (3,), written to ``out``
+    (a contiguous (3,) array) when given."""
     q_ref = np.array([math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw)])
     if pitch != 0.0:
         mujoco.mju_mulQuat(q_ref, q_ref, np.array([math.cos(0.5 * pitch), 0.0, -math.sin(0.5 * pitch), 0.0]))
     q_inv = np.empty(4)
     mujoco.mju_negQuat(q_inv, quat)
     mujoco.mju_mulQuat(q_ref, q_ref, q_inv)
-    e = np.empty(3)
+    e = np.empty(3) if out is None else out
     mujoco.mju_quat2Vel(e, q_ref, 1.0)
     return e
-
-
-def friction_rows(n: int, k: int, col0: int, mu: float) -> np.ndarray:
-    """Rows (4k, n) of the friction pyramids ``|f_x|, |f_y| <= mu f_z`` of k point forces stored from
-    column ``col0`` as (f_x, f_y, f_z) triples: G x <= 0."""
-    fr = np.zeros((4 * k, n))
-    i = np.arange(k)
-    c0 = col0 + 3 * i
-    for r, (axis, sign) in enumerate(((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))):
-        fr[4 * i + r, c0 + axis] = sign
-        fr[4 * i + r, c0 + 2] = -mu
-    return fr
 
 
 def solve_qp(
