@@ -25,6 +25,9 @@ def test_yaw_error_on_quaternions_equals_the_rotation_vector_of_the_matrices():
         yaw = rng.uniform(-7.0, 7.0)
         quat = R.as_quat(scalar_first=True) * rng.choice([-1.0, 1.0])  # q and -q: the same rotation
         np.testing.assert_allclose(yaw_error(yaw, quat), rotation_error(rot_z(yaw), R.as_matrix()), atol=1e-12)
+        pitch = rng.uniform(-0.5, 0.5)  # a sole on a ramp: rot_z(yaw) rot_y(-pitch)
+        R_ref = rot_z(yaw) @ Rotation.from_rotvec([0.0, -pitch, 0.0]).as_matrix()
+        np.testing.assert_allclose(yaw_error(yaw, quat, pitch), rotation_error(R_ref, R.as_matrix()), atol=1e-12)
 
 
 def _problem(seed: int = 0):

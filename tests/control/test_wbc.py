@@ -112,3 +112,29 @@ def test_rotation_error_is_the_rotation_vector_taking_r_to_r_ref():
         e = rotation_error(R_ref, R)
         np.testing.assert_allclose(e, Rotation.from_matrix(R_ref @ R.T).as_rotvec(), atol=1e-9)
     np.testing.assert_allclose(rotation_error(rot_z(0.3), rot_z(0.1)), [0.0, 0.0, 0.2], atol=1e-12)
+
+
+def test_task_frame_jacobians_match_mujocos_at_a_moving_state():
+    """The four task frames (one gather of the poses, the pelvis's angular rows in closed form on its
+    free joint) against ``mj_jac``/``mj_jacDot`` and ``plant.sole_frame`` at a tilted, moving state."""
+    plant, d, q0, _ = standing()
+    m = plant.model
+    rng = np.random.default_rng(2)
+    d.qpos[3:7] = Rotation.from_rotvec([0.3, -0.2, 0.8]).as_quat(scalar_first=True)
+    d.qpos[7:] += rng.uniform(-0.2, 0.2, m.nq - 7)
+    d.qvel[:] = rng.normal(size=m.nv)
+    mujoco.mj_forward(m, d)
+    J, Jd, P, R = WholeBodyController(plant, q0).task_frames(d)
+    bodies = [plant.soles[0].body, plant.soles[1].body, plant.torso_body, plant.pelvis_body]
+    for i, body in enumerate(bodies):
+        point = plant.sole_frame(d, i)[0] if i < 2 else d.xpos[body]
+        jp, jr, dp, dr = (np.zeros((3, m.nv)) for _ in range(4))
+        mujoco.mj_jac(m, d, jp, jr, point, body)
+        mujoco.mj_jacDot(m, d, dp, dr, point, body)
+        np.testing.assert_allclose(J[i, 3:], jr, atol=1e-12)
+        np.testing.assert_allclose(Jd[i, 3:], dr @ d.qvel, atol=1e-9)
+        if i < 2:  # the soles' linear rows and frames (the torso's and pelvis's positions are not tasks)
+            np.testing.assert_allclose(J[i, :3], jp, atol=1e-12)
+            np.testing.assert_allclose(Jd[i, :3], dp @ d.qvel, atol=1e-9)
+            np.testing.assert_allclose(P[i], point, atol=1e-12)
+            np.testing.assert_allclose(R[i], plant.sole_frame(d, i)[1], atol=1e-12)

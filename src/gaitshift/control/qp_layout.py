@@ -11,14 +11,21 @@ first n entries of ``bl``/``bu`` bound x itself), with the rows of A in this ord
 * ``feet``: non-sliding stance soles ``J_s qdd = -Jdot_s qd - K_v v_s`` (6 equalities each);
 * ``cone``: the contact wrench cone of each stance sole, ``C_s B_s^T w_s <= 0`` with ``C_s`` its faces
   in the sole frame (:mod:`gaitshift.control.wrench_cone`) and ``B_s = diag(R_s, R_s)`` the sole
-  rotation (refilled per tick through :attr:`QpLayout.cone`);
-* ``cap``: per-foot ``F_z <= F_max`` (one constant row per stance foot).
+  rotation (refilled per tick through :attr:`QpLayout.cone`).
+The per-foot cap ``F_z <= F_max`` (the touchdown/lift-off force ramp) is an upper bound on the
+unknown ``F_z`` itself (:attr:`QpLayout.cap`).
 
 The cost matrix H and vector f are held here too (block diagonal: the qdd block and the wrench block
 are rewritten whole every tick, the rest stays zero), with the views the controller writes through:
-the qdd block's diagonal, the per-foot (6, 6) blocks of the wrench block, and the centroidal map
-``A_c`` (6, 6 ns) ``= [[I, 0, I, 0], [[d_s]x, I, ...]]`` (sum of forces; moment about the CoM,
-``d_s`` = sole centre - CoM) with its ``[d_s]x`` blocks.
+the qdd block's diagonal and the wrench-task rows ``T_w`` (6 + 6 ns, 6 ns)::
+
+    T_w = [[I,      0, I,      0],      sum of the forces
+           [[d_0]x, I, [d_1]x, I],      moment about the CoM (d_s = sole centre - CoM)
+           [L^T B_0^T,  0        ],      regularisation, Q = L L^T (per sole)
+           [0,  L^T B_1^T        ]]
+
+whose ``[d_s]x`` blocks (:attr:`QpLayout.skew`) and regularisation blocks (:attr:`QpLayout.reg`)
+change each tick; the wrench block of H is ``T_w^T W T_w``.
 """
 
 from __future__ import annotations
@@ -32,11 +39,14 @@ from gaitshift.control.qp_terms import INF
 from gaitshift.control.wrench_cone import SoleCone
 
 
-def _blocks(a: np.ndarray, count: int, rows: int, cols: int, step_r: int, step_c: int) -> np.ndarray:
-    """A writable (count, rows, cols) view of ``a`` (2-D, C order): block i starts ``i step_r`` rows and
-    ``i step_c`` columns after ``a[0, 0]``."""
+def _blocks(
+    a: np.ndarray, row: int, col: int, shape: tuple[int, ...], steps: tuple[tuple[int, int], ...]
+) -> np.ndarray:
+    """A writable view of the 2-D (C order) array ``a`` from ``a[row, col]``: ``shape`` with the
+    strides of ``steps`` given as (rows, columns) pairs."""
     s0, s1 = a.strides
-    return as_strided(a, (count, rows, cols), (step_r * s0 + step_c * s1, s0, s1))
+    base = a[row:, col:]
+    return as_strided(base, shape, tuple(r * s0 + c * s1 for r, c in steps))
 
 
 @dataclass
@@ -45,14 +55,15 @@ class QpLayout:
 
     Attributes:
         stance: stance feet (0 left, 1 right), in order; nv, nu: dofs and motors; n: unknowns nv + 6 ns;
-        rows: slices of A per block; A (m, n); bu, bl (n + m,); sense: daqp's constraint kinds (n + m,),
-        5 on the equality rows; up, lo: views of bu, bl per block ("x": the unknowns,
-        "dynamics+torque": both blocks); feet: slice of the stance sides; cones: the stance soles'
-        :class:`SoleCone`; cone: per stance foot, the (m_s, 2, 3) view of its cone rows of A on its wrench
-        (``C B^T`` written as ``C.reshape(m_s, 2, 3) @ R^T``); H (n, n), f (n,): the cost;
-        H_diag: the (nv,) diagonal of the qdd block; H_feet: the (6, 6) wrench blocks on the diagonal as
-        (ns, 2, 2, 3, 3) (force/torque row block, column block, 3, 3);
-        Ac (6, 6 ns): centroidal map; Ac_skew: its (ns, 3, 3) ``[d_s]x`` blocks; mu: friction coefficient.
+        rows: slices of A per block; A (m, n); A_torque: the torque rows of A; bu, bl (n + m,); sense:
+        daqp's constraint kinds (n + m,), 5 on the equality rows; up, lo: views of bu, bl per block
+        ("x": the unknowns, "dynamics+torque": both blocks); feet: slice of the stance sides; cap:
+        indices of the F_z unknowns; cones: the stance soles' :class:`SoleCone`; cone: the
+        (m, 6 ns) view of the cone rows of A on the wrenches (``C B^T``, C block diagonal); H (n, n),
+        f (n,): the cost; H_diag: the (nv,) diagonal of the qdd block; Tw: the wrench-task rows;
+        skew: their (ns, 3, 3) ``[d_s]x`` blocks; reg: the (6 ns, 6 ns) regularisation rows
+        ``L^T B^T`` of Tw; B (6 ns, 6 ns): ``diag(R_s^T, R_s^T, ...)`` over the stance soles;
+        B_blocks: its (ns, 2, 3, 3) diagonal blocks; mu: friction coefficient.
     """
 
     stance: tuple[int, ...]
@@ -61,20 +72,24 @@ class QpLayout:
     n: int
     rows: dict[str, slice]
     A: np.ndarray
+    A_torque: np.ndarray
     bu: np.ndarray
     bl: np.ndarray
     sense: np.ndarray
     up: dict[str, np.ndarray]
     lo: dict[str, np.ndarray]
     feet: slice
+    cap: np.ndarray
     cones: tuple[SoleCone, ...]
-    cone: list[np.ndarray]
+    cone: np.ndarray
     H: np.ndarray
     f: np.ndarray
     H_diag: np.ndarray
-    H_feet: np.ndarray
-    Ac: np.ndarray
-    Ac_skew: np.ndarray
+    Tw: np.ndarray
+    skew: np.ndarray
+    reg: np.ndarray
+    B: np.ndarray
+    B_blocks: np.ndarray
     mu: float
 
     @classmethod
@@ -83,18 +98,16 @@ class QpLayout:
         ns = len(stance)
         cs = tuple(cones[s] for s in stance)
         n = nv + 6 * ns
-        sizes = {"dynamics": 6, "torque": nu, "feet": 6 * ns, "cone": sum(len(c.faces) for c in cs), "cap": ns}
+        sizes = {"dynamics": 6, "torque": nu, "feet": 6 * ns, "cone": sum(len(c.faces) for c in cs)}
         rows, start = {}, 0
         for name, size in sizes.items():
             rows[name] = slice(start, start + size)
             start += size
         A = np.zeros((start, n))
-        cone, r0 = [], rows["cone"].start
-        for j, c in enumerate(cs):
-            m = len(c.faces)
-            cone.append(as_strided(A[r0:, nv + 6 * j :], (m, 2, 3), (A.strides[0], 3 * A.strides[1], A.strides[1])))
-            r0 += m
-            A[rows["cap"].start + j, nv + 6 * j + 2] = 1.0
+        Tw = np.zeros((6 + 6 * ns, 6 * ns))
+        for j in range(ns):
+            Tw[:3, 6 * j : 6 * j + 3] = Tw[3:6, 6 * j + 3 : 6 * j + 6] = np.eye(3)
+        B = np.zeros((6 * ns, 6 * ns))
         bu = np.full(n + start, INF)
         bl = np.full(n + start, -INF)
         sense = np.zeros(n + start, dtype=np.intc)
@@ -106,10 +119,6 @@ class QpLayout:
         lo = {key: bl[r] for key, r in shifted.items()}
         up["cone"][:] = 0.0
         H = np.zeros((n, n))
-        Ac = np.zeros((6, 6 * ns))
-        for j in range(ns):
-            Ac[:3, 6 * j : 6 * j + 3] = Ac[3:, 6 * j + 3 : 6 * j + 6] = np.eye(3)
-        feet = slice(stance[0], stance[-1] + 1) if stance else slice(0, 0)
         return cls(
             stance=tuple(stance),
             nv=nv,
@@ -117,19 +126,23 @@ class QpLayout:
             n=n,
             rows=rows,
             A=A,
+            A_torque=A[rows["torque"]],
             bu=bu,
             bl=bl,
             sense=sense,
             up=up,
             lo=lo,
-            feet=feet,
+            feet=slice(stance[0], stance[-1] + 1) if stance else slice(0, 0),
+            cap=nv + 6 * np.arange(ns) + 2,
             cones=cs,
-            cone=cone,
+            cone=A[rows["cone"], nv:],
             H=H,
             f=np.zeros(n),
             H_diag=as_strided(H, (nv,), (H.strides[0] + H.strides[1],)),
-            H_feet=_blocks(H[nv:, nv:], ns, 6, 6, 6, 6).reshape(ns, 2, 3, 2, 3).transpose(0, 1, 3, 2, 4),
-            Ac=Ac,
-            Ac_skew=_blocks(Ac[3:], ns, 3, 3, 0, 6),
+            Tw=Tw,
+            skew=_blocks(Tw, 3, 0, (ns, 3, 3), ((0, 6), (1, 0), (0, 1))),
+            reg=Tw[6:],
+            B=B,
+            B_blocks=_blocks(B, 0, 0, (ns, 2, 3, 3), ((6, 6), (3, 3), (1, 0), (0, 1))),
             mu=cones[0].mu,
         )

@@ -34,20 +34,38 @@ def rotation_error(R_ref: np.ndarray, R: np.ndarray) -> np.ndarray:
     return e
 
 
-def yaw_error(yaw: float, quat: np.ndarray, pitch: float = 0.0, out: np.ndarray | None = None) -> np.ndarray:
+def quat_yaw_error(yaw: float, pitch: float, w: float, x: float, y: float, z: float) -> tuple[float, float, float]:
+    """The rotation vector (rad) of ``q_ref (x) q^-1``, ``q = (w, x, y, z)`` a unit quaternion and
+    ``q_ref = (cos(yaw/2), 0, 0, sin(yaw/2)) (x) (cos(pitch/2), 0, -sin(pitch/2), 0)`` (the rotation
+    ``rot_z(yaw) @ rot_y(-pitch)``), on Python floats: the same steps as MuJoCo's ``mju_mulQuat``
+    and ``mju_quat2Vel`` (angle ``2 atan2(|v|, w)``, taken in (-pi, pi]) for a few scalars."""
+    cy, sy = math.cos(0.5 * yaw), math.sin(0.5 * yaw)
+    if pitch != 0.0:
+        cp, sp = math.cos(0.5 * pitch), math.sin(0.5 * pitch)
+        a, b, c, d = cy * cp, sy * sp, -cy * sp, sy * cp
+    else:
+        a, b, c, d = cy, 0.0, 0.0, sy
+    # (a, b, c, d) (x) (w, -x, -y, -z)
+    ew = a * w + b * x + c * y + d * z
+    ex = -a * x + b * w - c * z + d * y
+    ey = -a * y + b * z + c * w - d * x
+    ez = -a * z - b * y + c * x + d * w
+    s = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if s < mujoco.mjMINVAL:
+        return 0.0, 0.0, 0.0
+    angle = 2.0 * math.atan2(s, ew)
+    if angle > math.pi:
+        angle -= 2.0 * math.pi
+    k = angle / s
+    return ex * k, ey * k, ez * k
+
+
+def yaw_error(yaw: float, quat: np.ndarray, pitch: float = 0.0) -> np.ndarray:
     """:func:`rotation_error` of the orientation of unit quaternion ``quat`` (w, x, y, z) toward
     ``rot_z(yaw) @ rot_y(-pitch)`` (a sole pitched with a ramp rising by ``pitch`` along its heading),
-    computed on quaternions: the rotation vector of ``q_ref (x) quat^-1``, rad, (3,), written to ``out``
-    (a contiguous (3,) array) when given."""
-    q_ref = np.array([math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw)])
-    if pitch != 0.0:
-        mujoco.mju_mulQuat(q_ref, q_ref, np.array([math.cos(0.5 * pitch), 0.0, -math.sin(0.5 * pitch), 0.0]))
-    q_inv = np.empty(4)
-    mujoco.mju_negQuat(q_inv, quat)
-    mujoco.mju_mulQuat(q_ref, q_ref, q_inv)
-    e = np.empty(3) if out is None else out
-    mujoco.mju_quat2Vel(e, q_ref, 1.0)
-    return e
+    computed on quaternions (:func:`quat_yaw_error`): the rotation vector of ``q_ref (x) quat^-1``,
+    rad, (3,)."""
+    return np.array(quat_yaw_error(yaw, pitch, *(float(v) for v in quat)))
 
 
 def solve_qp(

@@ -48,7 +48,7 @@ import numpy as np
 
 from gaitshift.control.plant_view import PlantView
 from gaitshift.control.qp_layout import QpLayout
-from gaitshift.control.qp_terms import INF, SKEW_BASIS, rotation_error, solve_qp, yaw_error
+from gaitshift.control.qp_terms import INF, SKEW_BASIS, quat_yaw_error, rotation_error, solve_qp
 from gaitshift.control.wbc_data import Gains, TickInfo, TickReference
 from gaitshift.control.wrench_cone import SoleCone
 
@@ -65,23 +65,32 @@ class _Views:
         self.qpos, self.qvel = data.qpos, data.qvel
         self.com, self.com_vel, self.L = data.subtree_com[0], data.subtree_linvel[0], data.subtree_angmom[0]
         self.bias, self.passive = data.qfrc_bias, data.qfrc_passive
-        self.xpos, self.xmat = data.xpos, data.xmat
+        self.xpos, self.xmat, self.xquat = data.xpos, data.xmat, data.xquat
         self.torso_quat, self.pelvis_quat = data.xquat[torso], data.xquat[pelvis]
 
 
 class _Stance:
     """What one stance set (left, right in stance) fixes for the current gains: the QP layout, the
     frame-task rows in use among the 24 (position and orientation of the swing soles, orientation of
-    the torso and the pelvis) and their weights, the swing sides, and the wrench regularisation blocks
-    ``w_reg_f Q`` of the stance soles as (ns, 2, 2, 3, 3) (force/torque blocks)."""
+    the torso and the pelvis) and their weights, the swing sides, the stance soles' cone faces and
+    regularisation rows ``L^T`` (``Q = L L^T``), block diagonal over the stance soles, (m, 6 ns) and
+    (6 ns, 6 ns), in the sole frames (times ``B^T`` in the world, :attr:`QpLayout.B`), and the
+    weights of the wrench-task rows (CoM, angular momentum, regularisation)."""
 
-    def __init__(self, lay: QpLayout, key: tuple[bool, bool], w_task: np.ndarray, w_reg: float) -> None:
+    def __init__(self, lay: QpLayout, key: tuple[bool, bool], w_task: np.ndarray, w_cent: np.ndarray, w_reg: float):
         self.lay = lay
         self.swing = tuple(s for s in (0, 1) if not key[s])
         self.rows = np.array([r for s in self.swing for r in range(6 * s, 6 * s + 6)] + [15, 16, 17, 21, 22, 23])
         self.w_rows = w_task.ravel()[self.rows]
-        self.reg = np.array([w_reg * c.metric.reshape(2, 3, 2, 3).transpose(0, 2, 1, 3) for c in lay.cones])
-        self.faces = [c.faces.reshape(-1, 2, 3) for c in lay.cones]
+        ns = len(lay.stance)
+        self.faces = np.zeros((lay.rows["cone"].stop - lay.rows["cone"].start, 6 * ns))
+        self.reg = np.zeros((6 * ns, 6 * ns))
+        r = 0
+        for j, c in enumerate(lay.cones):
+            self.faces[r : r + len(c.faces), 6 * j : 6 * j + 6] = c.faces
+            self.reg[6 * j : 6 * j + 6, 6 * j : 6 * j + 6] = np.linalg.cholesky(c.metric).T
+            r += len(c.faces)
+        self.w_wrench = np.concatenate([w_cent, np.full(6 * len(lay.stance), w_reg)])
 
 
 class WholeBodyController:
@@ -107,6 +116,9 @@ class WholeBodyController:
         self.knee_dofs = plant.actuated_dofs[knees]
         self.knee_qadr = m.jnt_qposadr[m.dof_jntid[self.knee_dofs]]
         self.knee_range = m.jnt_range[m.dof_jntid[self.knee_dofs]]
+        self._knee = [
+            (int(d), (float(r[0]), float(r[1]))) for d, r in zip(self.knee_dofs, self.knee_range, strict=True)
+        ]
         self.mass = plant.mass
         self.gravity = -float(m.opt.gravity[2])
         self.last_solver = "daqp"
@@ -124,14 +136,38 @@ class WholeBodyController:
         soles = plant.soles
         self._body_ids = [soles[0].body, soles[1].body, plant.torso_body, plant.pelvis_body]
         self._bodies = np.array(self._body_ids)
-        self._offset = np.zeros((4, 3, 1))
-        self._offset[:2, :, 0] = [s.centre for s in soles]
-        self._sole_rot = np.array([s.rotation for s in soles])
+        self._offset = np.zeros((4, 1, 3))  # the points in the body frames, as rows
+        self._offset[:2, 0] = [s.centre for s in soles]
+        self._tmp = np.zeros((4, 3, 3))
+        rot = np.array([s.rotation for s in soles])
+        self._sole_rot = None if np.array_equal(rot, np.broadcast_to(np.eye(3), rot.shape)) else rot
         self._J, self._Jdot = np.zeros((4, 6, m.nv)), np.zeros((4, 6, m.nv))
         self._v, self._Jd = np.zeros((4, 6)), np.zeros((4, 6))
         self._P, self._R = np.zeros((4, 3)), np.zeros((2, 3, 3))
+        J, Jdot, P = self._J, self._Jdot, self._P
+        # the pelvis on a free joint: angular velocity R qd[3:6] (MuJoCo's free joint turns in its body
+        # frame), so its angular Jacobian is [0, R, 0] and its Jdot qd is R [w]x w = 0; only its angular
+        # rows are used (orientation task)
+        self._free_base = bool(
+            m.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+            and m.jnt_bodyid[0] == plant.pelvis_body
+            and m.jnt_dofadr[0] == 0
+        )
+        frames = 3 if self._free_base else 4
+        self._jac_args = [
+            (J[i, :3], J[i, 3:], Jdot[i, :3], Jdot[i, 3:], P[i], self._body_ids[i]) for i in range(frames)
+        ]
+        self._pelvis_rot = J[3, 3:, 3:6]
+        self._J24, self._Jdot24 = J.reshape(24, m.nv), Jdot.reshape(24, m.nv)
+        self._v24, self._Jd24 = self._v.reshape(24), self._Jd.reshape(24)
         # PD terms of the frame tasks (4, 6): errors, velocity references, feedforward accelerations
         self._err, self._vref, self._ff = np.zeros((4, 6)), np.zeros((4, 6)), np.zeros((4, 6))
+        self._rot_err = [self._err[i, 3:] for i in range(4)]  # written as +e: their gains are -K_p
+        self._sole_quat = [np.zeros(4), np.zeros(4)]
+        for s, sole in enumerate(soles):
+            mujoco.mju_mat2Quat(self._sole_quat[s], sole.rotation.ravel())
+        self._sole_quat_list = [q.tolist() for q in self._sole_quat]
+        self._xquat_soles = [int(sole.body) for sole in soles]
         self._t = np.zeros(6)  # centroidal target: [m cdd_des; -K_L L]
         self._gain_arrays()
 
@@ -147,13 +183,16 @@ class WholeBodyController:
         self._post_q, self._post_v = w_post * g.posture_kp, w_post * g.posture_kd
         self._post_0 = -self._post_q * self.q_posture
         self._com_kp, self._com_kd = self.mass * np.array(g.com_kp), self.mass * np.array(g.com_kd)
+        self._neg_mass = -self.mass
         self._weight = np.array([0.0, 0.0, self.mass * self.gravity])
         self._row_lim = np.concatenate([np.zeros(6), self.plant.torque_limit * g.torque_margin])
         self._neg_row_lim = -self._row_lim
+        self._neg_limit = -self.plant.torque_limit
+        self._neg_kv = -g.stance_kv
         scale = self.mass * 0.1
         self._w_cent = np.array([g.w_com / self.mass**2] * 3 + [g.w_angmom / scale**2] * 3)
         sw, up = np.full(6, g.swing_kp), np.full(6, g.torso_kp)
-        self._kp = np.array([sw, sw, up, up])
+        self._kp = np.array([sw, sw, up, up]) * [1.0, 1.0, 1.0, -1.0, -1.0, -1.0]  # position errors are -e
         self._kd = np.array([np.full(6, g.swing_kd)] * 2 + [np.full(6, g.torso_kd)] * 2)
         foot = [g.w_swing] * 3 + [g.w_swing_rot] * 3
         self._w_task = np.array([foot, foot, [0.0] * 3 + [g.w_torso] * 3, [0.0] * 3 + [g.w_pelvis] * 3])
@@ -177,7 +216,7 @@ class WholeBodyController:
                 soles = self.plant.soles
                 cones = self._cones[mu] = (SoleCone.of(soles[0].points, mu), SoleCone.of(soles[1].points, mu))
             lay = QpLayout.build(tuple(s for s in (0, 1) if key[s]), cones, self.nv, self.nu)
-            st = self._stances[key] = _Stance(lay, key, self._w_task, self.gains.w_reg_f)
+            st = self._stances[key] = _Stance(lay, key, self._w_task, self._w_cent, self.gains.w_reg_f)
         return st
 
     # ------------------------------------------------------------------ kinematics
@@ -186,69 +225,91 @@ class WholeBodyController:
         the pelvis (one gather of the four bodies' poses, one pass of ``mj_jac``/``mj_jacDot``)."""
         m = self.plant.model
         Rb = vw.xmat[self._bodies].reshape(4, 3, 3)
-        np.add(vw.xpos[self._bodies], (Rb @ self._offset)[..., 0], out=self._P)
-        np.matmul(Rb[:2], self._sole_rot, out=self._R)
-        J, Jdot, P = self._J, self._Jdot, self._P
-        for i, body in enumerate(self._body_ids):
-            mujoco.mj_jac(m, data, J[i, :3], J[i, 3:], P[i], body)
-            mujoco.mj_jacDot(m, data, Jdot[i, :3], Jdot[i, 3:], P[i], body)
-        np.matmul(J, vw.qvel, out=self._v)
-        np.matmul(Jdot, vw.qvel, out=self._Jd)
+        np.multiply(Rb, self._offset, out=self._tmp)
+        np.add(vw.xpos[self._bodies], self._tmp.sum(axis=2), out=self._P)
+        if self._sole_rot is None:
+            self._R[:] = Rb[:2]
+        else:
+            np.matmul(Rb[:2], self._sole_rot, out=self._R)
+        if self._free_base:
+            self._pelvis_rot[:] = Rb[3]
+        for jp, jr, dp, dr, point, body in self._jac_args:
+            mujoco.mj_jac(m, data, jp, jr, point, body)
+            mujoco.mj_jacDot(m, data, dp, dr, point, body)
+        np.matmul(self._J24, vw.qvel, out=self._v24)
+        np.matmul(self._Jdot24, vw.qvel, out=self._Jd24)
+
+    def task_frames(self, data: mujoco.MjData) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The four task frames (left sole, right sole, torso, pelvis) at the state of ``data`` (after
+        ``mj_forward``), as the QP uses them: Jacobians (4, 6, nv) (linear then angular; the torso's
+        and the pelvis's linear rows are not tasks), ``Jdot qd`` (4, 6), points (4, 3) (sole centres,
+        body origins) and sole rotations (2, 3, 3); copies."""
+        self._frames(data, self._view(data))
+        return self._J.copy(), self._Jd.copy(), self._P.copy(), self._R.copy()
 
     # ------------------------------------------------------------------ tasks
     def _centroidal_tasks(self, vw: _Views, ref: TickReference, st: _Stance) -> None:
         """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact wrenches,
-        plus their regularisation: the (6 ns, 6 ns) wrench block of the cost."""
+        plus their regularisation: the (6 ns, 6 ns) wrench block of the cost, ``T_w^T W T_w``
+        (:mod:`gaitshift.control.qp_layout`)."""
         lay, nv = st.lay, self.nv
-        ns = len(lay.stance)
         d = self._P[lay.feet] - vw.com
-        lay.Ac_skew[:] = (d @ SKEW_BASIS).reshape(ns, 3, 3)
+        lay.skew[:] = (d @ SKEW_BASIS).reshape(-1, 3, 3)
+        lay.reg[:] = st.reg @ lay.B
         # the views are of the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
-        t = self._t
+        t = self._t  # minus the targets of the first six rows: -[m cdd_des; -K_L L]
         t[:3] = (
-            self.mass * ref.com_acc
-            + self._com_kp * (ref.com_pos - vw.com)
-            + self._com_kd * (ref.com_vel - vw.com_vel)
-            + self._weight
+            self._neg_mass * ref.com_acc
+            + self._com_kp * (vw.com - ref.com_pos)
+            + self._com_kd * (vw.com_vel - ref.com_vel)
+            - self._weight
         )
-        np.multiply(vw.L, -self.gains.angmom_kd, out=t[3:])
-        Aw = lay.Ac.T * self._w_cent
-        np.matmul(Aw, lay.Ac, out=lay.H[nv:, nv:])
-        np.matmul(Aw, t, out=lay.f[nv:])
-        np.negative(lay.f[nv:], out=lay.f[nv:])
-        R = self._R[lay.feet, None, None]
-        lay.H_feet += R @ st.reg @ R.transpose(0, 1, 2, 4, 3)
+        np.multiply(vw.L, self.gains.angmom_kd, out=t[3:])
+        Tw = lay.Tw.T * st.w_wrench
+        np.matmul(Tw, lay.Tw, out=lay.H[nv:, nv:])
+        np.matmul(Tw[:, :6], t, out=lay.f[nv:])
 
     def _motion_targets(self, vw: _Views, ref: TickReference, st: _Stance) -> np.ndarray:
-        """Swing-foot pose and torso and pelvis orientation: the PD targets of the four frames,
-        ``a = K_p e + K_d (v_ref - J qd) - Jdot qd + a_ff`` (4, 6)."""
+        """Swing-foot pose and torso and pelvis orientation: minus the PD targets of the four frames,
+        ``-a = -K_p e - K_d (v_ref - J qd) + Jdot qd - a_ff`` (4, 6)."""
         err, vref, ff = self._err, self._vref, self._ff
-        np.subtract(ref.foot_pos, self._P[:2], out=err[:2, :3])
-        vref[:2, :3] = ref.foot_vel
-        vref[:2, 5] = ref.yaw_rate
+        if st.swing:
+            np.subtract(self._P[:2], ref.foot_pos, out=err[:2, :3])  # -e
+            vref[:2, :3] = ref.foot_vel
+            vref[:2, 5] = ref.yaw_rate
+            ff[:2, :3] = ref.foot_acc
+        for s in st.swing:  # sole on terrain
+            w, x, y, z = self._sole_quaternion(vw, s)
+            self._rot_err[s][:] = quat_yaw_error(float(ref.yaw[s]), float(ref.foot_pitch[s]), w, x, y, z)
         vref[2:, 5] = ref.torso_yaw_rate
-        ff[:2, :3] = ref.foot_acc
-        for s in st.swing:
-            quat = np.empty(4)
-            mujoco.mju_mat2Quat(quat, self._R[s].ravel())
-            yaw_error(ref.yaw[s], quat, ref.foot_pitch[s], out=err[s, 3:])  # sole on terrain
-        yaw_error(ref.torso_yaw, vw.torso_quat, out=err[2, 3:])
-        yaw_error(ref.torso_yaw, vw.pelvis_quat, out=err[3, 3:])
-        a: np.ndarray = self._kp * err + self._kd * (vref - self._v) - self._Jd + ff
+        yaw = float(ref.torso_yaw)
+        self._rot_err[2][:] = quat_yaw_error(yaw, 0.0, *vw.torso_quat.tolist())
+        self._rot_err[3][:] = quat_yaw_error(yaw, 0.0, *vw.pelvis_quat.tolist())
+        a: np.ndarray = self._kp * err + self._kd * (self._v - vref) + self._Jd - ff
         return a
+
+    def _sole_quaternion(self, vw: _Views, s: int) -> tuple[float, float, float, float]:
+        """Unit quaternion (w, x, y, z) of sole s: its body's, times the sole's rotation in the body."""
+        a, b, c, d = vw.xquat[self._xquat_soles[s]].tolist()
+        w, x, y, z = self._sole_quat_list[s]
+        return (
+            a * w - b * x - c * y - d * z,
+            a * x + b * w + c * z - d * y,
+            a * y - b * z + c * w + d * x,
+            a * z + b * y - c * x + d * w,
+        )
 
     def _motion_tasks(self, vw: _Views, ref: TickReference, st: _Stance) -> None:
         """The (nv, nv) qdd block of the cost: the stacked task rows, posture (joint PD toward the
         standing pose) and regularisation on the diagonal."""
         lay, nv = st.lay, self.nv
         a = self._motion_targets(vw, ref, st)
-        Jr = self._J.reshape(24, nv)[st.rows]
+        Jr = self._J24[st.rows]
         Jw = Jr.T * st.w_rows
         np.matmul(Jw, Jr, out=lay.H[:nv, :nv])
         lay.H_diag += self._w_diag
         fq = lay.f[:nv]
         np.matmul(Jw, a.ravel()[st.rows], out=fq)
-        np.negative(fq, out=fq)
         fq[6:] += self._post_q * vw.qpos[7:] + self._post_v * vw.qvel[6:] + self._post_0
 
     # ------------------------------------------------------------------ constraints
@@ -269,32 +330,33 @@ class WholeBodyController:
         np.negative(Jf.T[self._dofs], out=A[r, nv:])
         A[lay.rows["feet"], :nv] = Jf
         b = lay.up["feet"]
-        np.multiply(self._v[lay.feet].ravel(), -self.gains.stance_kv, out=b)
+        np.multiply(self._v[lay.feet].ravel(), self._neg_kv, out=b)
         b -= self._Jd[lay.feet].ravel()
         lay.lo["feet"][:] = b
-        lay.up["cap"][:] = ref.fz_max[lay.feet]
-        for j, s in enumerate(lay.stance):
-            np.matmul(st.faces[j], self._R[s].T, out=lay.cone[j])
+        lay.bu[lay.cap] = ref.fz_max[lay.feet]
+        lay.cone[:] = st.faces @ lay.B
 
-    def _knee_bounds(self, vw: _Views, ref: TickReference, lay: QpLayout) -> None:
+    def _knee_bounds(self, vw: _Views, st: _Stance) -> None:
         """Bounds on the swinging knees' accelerations that keep them ``limit_margin`` inside their
         range over ``limit_horizon`` s: ``q + v T + a T^2 / 2`` within the range. Without them the
         trailing knee of a fast running swing is driven straight into its limit just after lift-off
         (docs/simulation.md, "Top speed")."""
         g = self.gains
         T = g.limit_horizon
-        for s in (0, 1):
-            if ref.stance[s]:
-                continue
-            drift = float(vw.qpos[self.knee_qadr[s]]) + float(vw.qvel[self.knee_dofs[s]]) * T
-            lo = 2.0 * (float(self.knee_range[s, 0]) + g.limit_margin - drift) / T**2
-            hi = 2.0 * (float(self.knee_range[s, 1]) - g.limit_margin - drift) / T**2
-            lay.lo["x"][self.knee_dofs[s]], lay.up["x"][self.knee_dofs[s]] = min(lo, hi), max(lo, hi)
+        lo_x, up_x = st.lay.lo["x"], st.lay.up["x"]
+        for s in st.swing:
+            dof, (q_lo, q_hi) = self._knee[s]
+            drift = float(vw.qpos[self.knee_qadr[s]]) + float(vw.qvel[dof]) * T
+            lo = 2.0 * (q_lo + g.limit_margin - drift) / T**2
+            hi = 2.0 * (q_hi - g.limit_margin - drift) / T**2
+            lo_x[dof], up_x[dof] = min(lo, hi), max(lo, hi)
 
-    def _free_knees(self, lay: QpLayout) -> None:
-        """No bounds on the knee accelerations."""
-        lay.lo["x"][self.knee_dofs] = -INF
-        lay.up["x"][self.knee_dofs] = INF
+    def _free_knees(self, st: _Stance) -> None:
+        """No bounds on the swinging knees' accelerations."""
+        lo_x, up_x = st.lay.lo["x"], st.lay.up["x"]
+        for s in st.swing:
+            dof = self._knee[s][0]
+            lo_x[dof], up_x[dof] = -INF, INF
 
     def _solve(self, lay: QpLayout) -> np.ndarray | None:
         """The QP solution x, or None (:func:`gaitshift.control.qp_terms.solve_qp`)."""
@@ -314,14 +376,15 @@ class WholeBodyController:
         lay = st.lay
         self._frames(data, vw)
         if lay.stance:
+            lay.B_blocks[:] = self._R[lay.feet, None].transpose(0, 1, 3, 2)  # B = diag(R_s^T, R_s^T, ...)
             self._centroidal_tasks(vw, ref, st)
         self._motion_tasks(vw, ref, st)
         self._constraints(st, h, ref)
         x = None
         if self.gains.limit_horizon > 0 and st.swing:  # with the knee-limit bounds, then without if infeasible
-            self._knee_bounds(vw, ref, lay)
+            self._knee_bounds(vw, st)
             x = self._solve(lay)
-            self._free_knees(lay)
+            self._free_knees(st)
         if x is None:
             x = self._solve(lay)
         info = TickInfo(ok=x is not None, solver=self.last_solver)
@@ -331,10 +394,11 @@ class WholeBodyController:
             qj, vj = vw.qpos[7:], vw.qvel[6:]
             tau = np.clip(self.gains.posture_kp * 0.5 * (self.q_posture - qj) - 2.0 * vj + h[self._act], -lim, lim)
             return tau, info
-        tau = lay.A[lay.rows["torque"]] @ x + h[self._act]  # M_a qdd + h_a - J_a^T w
+        tau = lay.A_torque @ x  # M_a qdd - J_a^T w
+        tau += h[self._act]
         w = x[nv:]
-        for j, s in enumerate(lay.stance):
-            info.forces[s] = w[6 * j : 6 * j + 3]
+        info.forces[lay.feet] = w.reshape(-1, 6)[:, :3]
         info.qdd, info.contact_wrenches = x[:nv], w
         info.contact_jacobian = self._J[lay.feet].reshape(-1, nv).copy()
-        return np.clip(tau, -p.torque_limit, p.torque_limit), info
+        np.maximum(tau, self._neg_limit, out=tau)
+        return np.minimum(tau, p.torque_limit, out=tau), info
