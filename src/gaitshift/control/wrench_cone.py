@@ -11,8 +11,8 @@ pyramid per point, with 6 unknowns per foot instead of 3n).
 
 For a rectangle of half-length X and half-width Y with a point at each corner, Caron, Pham and
 Nakamura ("Stability of surface contacts for humanoid robots: closed-form formulae of the contact
-wrench cone for rectangular support areas", ICRA 2015, Proposition 1 / eq. (16)-(19)) give the 16 faces
-in closed form (:func:`rectangle_faces`)::
+wrench cone for rectangular support areas", ICRA 2015) give the 16 faces in closed form
+(:func:`rectangle_faces`)::
 
     |f_x| <= mu f_z,   |f_y| <= mu f_z,   |tau_x| <= Y f_z,   |tau_y| <= X f_z,
     tau_min <= tau_z <= tau_max,
