@@ -168,7 +168,7 @@ class WholeBodyController:
             mujoco.mju_mat2Quat(self._sole_quat[s], sole.rotation.ravel())
         self._sole_quat_list = [q.tolist() for q in self._sole_quat]
         self._xquat_soles = [int(sole.body) for sole in soles]
-        self._t = np.zeros(6)  # centroidal target: [m cdd_des; -K_L L]
+        self._t = np.zeros(6)  # minus the centroidal targets: -[m cdd_des; -K_L L]
         self._gain_arrays()
 
     def _gain_arrays(self) -> None:
