@@ -34,7 +34,13 @@ from gaitshift.control.estimation.kinematics import LegKinematics
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.tuning import FilterTuning
-from gaitshift.control.estimation.types import EstimatedState, FootForces, ImuReading, JointReading
+from gaitshift.control.estimation.types import (
+    EstimatedState,
+    FootForces,
+    ImuReading,
+    JointReading,
+    new_estimated_state,
+)
 from gaitshift.errors import InputError
 
 SOLE_SITES = ("gaitshift_left_sole", "gaitshift_right_sole")
@@ -99,6 +105,11 @@ class StateEstimator:
         self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)  # (left x, y, right x, y), m/s
         self._slip = (False, False)
         self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
+        self._slip_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
+        for flags in self._slip_flags.values():
+            flags.flags.writeable = False
+        self._omega_skew9 = np.zeros(9)
+        self._omega_skew = self._omega_skew9.reshape(3, 3)
         self._quat = np.empty(4)
 
     @classmethod
@@ -144,7 +155,8 @@ class StateEstimator:
         rot = base.rot
         rot_t = rot.T
         y = kin.points
-        rel = kin.points_vel - y.dot(base.omega.dot(SKEW).reshape(3, 3))  # dy/dt + w x y
+        np.dot(base.omega, SKEW, out=self._omega_skew9)
+        rel = kin.points_vel - y.dot(self._omega_skew)  # dy/dt + w x y
         x_w = y.dot(rot_t)
         x_w += base.pos
         v_w = rel.dot(rot_t)
@@ -159,24 +171,13 @@ class StateEstimator:
         if slip_l and slip_r:  # a slide biases the base velocity, so the still sole looks slow-moving too
             slip_l, slip_r = speed_l >= speed_r, speed_r > speed_l
         self._slip = (slip_l, slip_r)
-        slip = np.array(self._slip)
+        slip = self._slip_flags[self._slip]
         if self.kinematics.imu_axes_are_base:
             mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
             omega_w = rot.dot(base.omega)
         else:
             mujoco.mju_mat2Quat(self._quat, rot.dot(kin.base_rot).reshape(9))
             omega_w = rot.dot(base.omega + kin.base_omega)
-        return EstimatedState(
-            base_pos=x_w[3],
-            base_quat=self._quat.copy(),
-            base_vel=v_w[3],
-            base_omega=omega_w,
-            q=q,
-            qd=qd,
-            contact=contact,
-            slip=slip,
-            foot_vel=v_w[0:2],
-            com=x_w[2],
-            com_vel=v_w[2],
-            cov_trace=base.cov_trace,
+        return new_estimated_state(
+            x_w[3], self._quat.copy(), v_w[3], omega_w, q, qd, contact, slip, v_w[0:2], x_w[2], v_w[2], base.cov_trace
         )

@@ -87,7 +87,15 @@ class LegKinematics:
         self._rot_var = np.zeros(2)
         self._site_xpos = self.data.site_xpos  # views into the private MjData (fixed buffers)
         self._site_xmat = self.data.site_xmat
-        self._com_view = self.data.subtree_com[self._root]
+        # the whole-body CoM: subtree 0 (the world's) when the robot carries all the mass (MuJoCo's
+        # mj_jacSubtreeCom is twice as fast there), else the root's
+        self._com_body = 0 if model.body_subtreemass[0] == model.body_subtreemass[self._root] else self._root
+        self._com_view = self.data.subtree_com[self._com_body]
+        self._vel_flat = np.zeros(12)  # the points' velocities (4, 3), and the soles' orientations (2, 3, 3)
+        self._vel = self._vel_flat.reshape(4, 3)
+        self._y = np.zeros((4, 3))
+        self._rot_flat = np.zeros((2, 9))
+        self._rot = self._rot_flat.reshape(2, 3, 3)
         self._ticks = 0
         self._var = np.zeros(2)
         self.data.qpos[:] = model.qpos0
@@ -95,6 +103,7 @@ class LegKinematics:
         self._qpos = self.data.qpos
         mujoco.mj_kinematics(model, self.data)
         self._set_base_constants()
+        self._refresh_variances()
 
     def _site(self, name: str, field: str) -> int:
         sid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_SITE, name)
@@ -109,31 +118,35 @@ class LegKinematics:
         return cls(robot.model(), imu_site, robot.SOLE_SITES, encoder_std)
 
     def compute(self, q: np.ndarray, qd: np.ndarray) -> BodyKinematics:
-        """Kinematics at joint angles ``q`` (nj,) rad and velocities ``qd`` (nj,) rad/s."""
-        m, d, jac = self.model, self.data, self._jac
+        """Kinematics at joint angles ``q`` (nj,) rad and velocities ``qd`` (nj,) rad/s.
+
+        For an IMU on the base with the base's axes (the G1's pelvis IMU) the result's arrays are the
+        object's own buffers, rewritten by the next call: read them before computing again."""
+        m, d, rows = self.model, self.data, self._jac_rows
         self._qpos[7:] = q
         self._qvel[6:] = qd
         mujoco.mj_kinematics(m, d)
         mujoco.mj_comPos(m, d)
-        mujoco.mj_jacSite(m, d, self._jac_rows[0], self._jacr_rows[0], self._soles[0])
-        mujoco.mj_jacSite(m, d, self._jac_rows[1], self._jacr_rows[1], self._soles[1])
-        mujoco.mj_jacSubtreeCom(m, d, self._jac_rows[2], self._root)
+        refresh = self._ticks % VAR_EVERY == 0  # the rotational Jacobians serve the variances only
+        jacr = self._jacr_rows if refresh else (None, None)
+        mujoco.mj_jacSite(m, d, rows[0], jacr[0], self._soles[0])
+        mujoco.mj_jacSite(m, d, rows[1], jacr[1], self._soles[1])
+        mujoco.mj_jacSubtreeCom(m, d, rows[2], self._com_body)
         pts = self._pts
         self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
         pts[2] = self._com_view
-        vel = jac.dot(self._qvel).reshape(4, 3)  # free-joint columns meet zeros
+        vel = self._vel
+        np.dot(self._jac, self._qvel, out=self._vel_flat)  # free-joint columns meet zeros
         self._ticks += 1
-        if self._ticks % VAR_EVERY == 1:
-            scale = self.encoder_std**2 / 3.0
-            self._var = scale * np.square(jac[0:6, 6:]).reshape(2, -1).sum(axis=1)
-            self._rot_var = scale * np.square(self._jacr[:, 6:]).reshape(2, -1).sum(axis=1)
-        rot = self._site_xmat.take(self._sole_ids, axis=0).reshape(2, 3, 3)
-        if not self.imu_axes_are_base:
-            rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, rot)
+        if refresh:
+            self._refresh_variances()
+        self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
+        if self.imu_axes_are_base:
+            np.subtract(pts, self._p_s, out=self._y)
+            return self._body
+        rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, self._rot)
         if not self.imu_on_base:
             y, ydot, base_rot, base_omega = self._relative_to_moving_imu(pts, vel, qd)
-        elif self.imu_axes_are_base:
-            y, ydot, base_rot, base_omega = pts - self._p_s, vel, self._base_rot, self._zero
         else:
             y, ydot, base_rot, base_omega = (
                 (pts - self._p_s).dot(self._rot_s),
@@ -143,6 +156,16 @@ class LegKinematics:
             )
         feet = FootKinematics(pos=y[0:2], vel=ydot[0:2], var=self._var, rot=rot, rot_var=self._rot_var)
         return BodyKinematics(feet, y, ydot, base_rot, base_omega)
+
+    def _refresh_variances(self) -> None:
+        """Encoder-noise variances of the soles' positions and orientations (module docstring); for an
+        IMU on the base with the base's axes, the result object that holds the new arrays."""
+        scale = self.encoder_std**2 / 3.0
+        self._var = scale * np.square(self._jac[0:6, 6:]).reshape(2, -1).sum(axis=1)
+        self._rot_var = scale * np.square(self._jacr[:, 6:]).reshape(2, -1).sum(axis=1)
+        y = self._y
+        feet = FootKinematics(pos=y[0:2], vel=self._vel[0:2], var=self._var, rot=self._rot, rot_var=self._rot_var)
+        self._body = BodyKinematics(feet, y, self._vel, self._base_rot, self._zero)
 
     def _set_base_constants(self) -> None:
         """IMU site pose in the base frame (constant for an IMU on the base)."""
