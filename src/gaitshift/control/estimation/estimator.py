@@ -100,6 +100,7 @@ class StateEstimator:
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
         self.filter = make_filter(filter, t, gravity)
+        self.kinematics.with_rot = self.filter.uses_sole_rot
         self.slip_speed2 = float(slip_speed) ** 2
         self._slip_alpha = float(1.0 - np.exp(-dt / slip_tau))
         self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)  # (left x, y, right x, y), m/s
@@ -157,7 +158,7 @@ class StateEstimator:
         y = kin.points
         np.dot(base.omega, SKEW, out=self._omega_skew9)
         rel = kin.points_vel - y.dot(self._omega_skew)  # dy/dt + w x y
-        x_w = y.dot(rot_t)
+        x_w = y[2:4].dot(rot_t)  # CoM and base origin (the soles' positions are not returned)
         x_w += base.pos
         v_w = rel.dot(rot_t)
         v_w += base.vel
@@ -179,5 +180,5 @@ class StateEstimator:
             mujoco.mju_mat2Quat(self._quat, rot.dot(kin.base_rot).reshape(9))
             omega_w = rot.dot(base.omega + kin.base_omega)
         return new_estimated_state(
-            x_w[3], self._quat.copy(), v_w[3], omega_w, q, qd, contact, slip, v_w[0:2], x_w[2], v_w[2], base.cov_trace
+            x_w[1], self._quat.copy(), v_w[3], omega_w, q, qd, contact, slip, v_w[0:2], x_w[0], v_w[2], base.cov_trace
         )

@@ -97,6 +97,8 @@ class LegKinematics:
         self._rot_flat = np.zeros((2, 9))
         self._rot = self._rot_flat.reshape(2, 3, 3)
         self._ticks = 0
+        #: fill ``feet.rot`` (the soles' orientations); when False it keeps its last value
+        self.with_rot = True
         self._var = np.zeros(2)
         self.data.qpos[:] = model.qpos0
         self.data.qpos[:7] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
@@ -140,7 +142,8 @@ class LegKinematics:
         self._ticks += 1
         if refresh:
             self._refresh_variances()
-        self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
+        if self.with_rot:
+            self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
         if self.imu_axes_are_base:
             np.subtract(pts, self._p_s, out=self._y)
             return self._body

@@ -110,7 +110,11 @@ class BaseState:
 
 
 class BaseFilter(Protocol):
-    """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``)."""
+    """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``).
+
+    ``uses_sole_rot``: whether ``step`` reads ``feet.rot`` (the kinematics skip it otherwise)."""
+
+    uses_sole_rot: bool
 
     def reset(
         self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None, gyro_bias: GyroCalibration | None = None
