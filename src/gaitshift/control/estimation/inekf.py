@@ -146,7 +146,8 @@ class InvariantEKF:
         self._vp = self._buf[0:2, 0:3]  # v, p
         self._acc_w = self._buf[4, 0:3]
         self._rho = self._buf[0:4, 3:6]
-        self._origin = np.zeros(3)  # o: p, d_L, d_R are relative to it (module docstring)
+        self._offset = np.zeros((2, 3))  # [0, o]: [v, p] + offset is the returned [v, o + p]
+        self._origin = self._offset[1]  # o: p, d_L, d_R are relative to it (module docstring)
         self._bias = np.zeros(6)  # b_g, b_a
         self._bias_g, self._bias_a = self._bias[0:3], self._bias[3:6]
         self._bias_out_g, self._bias_out_a = self._bias_g.copy(), self._bias_a.copy()
@@ -255,10 +256,11 @@ class InvariantEKF:
         self._ticks += 1
         if self._ticks % self._every == 0:
             self._correction_tick(feet, contact)
+        vp = self._vp + self._offset
         return new_base_state(
             self.rot.copy(),
-            self._vec[1] + self._origin,
-            self._vec[0].copy(),
+            vp[1],
+            vp[0],
             omega,
             self._bias_out_g,
             self._bias_out_a,
