@@ -33,7 +33,7 @@ from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.contact import ContactDetector
 from gaitshift.control.estimation.filters import DEFAULT_FILTER, make_filter
 from gaitshift.control.estimation.joints import JointVelocityFilter
-from gaitshift.control.estimation.kinematics import LegKinematics
+from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_model
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.tuning import FilterTuning
@@ -119,8 +119,9 @@ class StateEstimator:
 
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
-        """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model and sole sites)."""
-        return cls(robot.model(), dt, sole_sites=robot.SOLE_SITES, **kwargs)
+        """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model without geoms,
+        :func:`~gaitshift.control.estimation.kinematics.kinematic_model`, and its sole sites)."""
+        return cls(kinematic_model(robot), dt, sole_sites=robot.SOLE_SITES, **kwargs)
 
     def reset(
         self,
