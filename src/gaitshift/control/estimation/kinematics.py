@@ -139,6 +139,11 @@ class LegKinematics:
         self._vel_flat = np.zeros(12)  # the points' velocities (4, 3), and the soles' orientations (2, 3, 3)
         self._vel = self._vel_flat.reshape(4, 3)
         self._y = np.zeros((4, 3))
+        self._y_soles, self._y_com = self._y[0:2], self._y[2]
+        left, right = self._soles  # the soles' rows of site_xpos as one view
+        step, lo = abs(right - left), min(left, right)
+        rows = self.data.site_xpos[lo : lo + step + 1 : step] if step else self.data.site_xpos[lo : lo + 1]
+        self._soles_xpos = rows if left <= right else rows[::-1]
         self._rot_flat = np.zeros((2, 9))
         self._rot = self._rot_flat.reshape(2, 3, 3)
         self._ticks = 0
@@ -179,10 +184,13 @@ class LegKinematics:
         mujoco.mj_jacSite(m, d, rows[0], jacr[0], self._soles[0])
         mujoco.mj_jacSite(m, d, rows[1], jacr[1], self._soles[1])
         mujoco.mj_jacSubtreeCom(m, d, rows[2], self._com_body)
-        pts = self._pts
-        self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
-        pts[2] = self._com_view
-        vel = self._vel
+        if self.imu_axes_are_base:  # y = x_B - p_S straight from MuJoCo's arrays (row 3, -p_S, is fixed)
+            np.subtract(self._soles_xpos, self._p_s, out=self._y_soles)
+            np.subtract(self._com_view, self._p_s, out=self._y_com)
+        else:
+            self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
+            self._pts[2] = self._com_view
+        pts, vel = self._pts, self._vel
         np.dot(self._jac, self._qvel, out=self._vel_flat)  # free-joint columns meet zeros
         self._ticks += 1
         if refresh:
@@ -190,7 +198,6 @@ class LegKinematics:
         if self.with_rot:
             self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
         if self.imu_axes_are_base:
-            np.subtract(pts, self._p_s, out=self._y)
             return self._body
         rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, self._rot)
         if not self.imu_on_base:
@@ -224,6 +231,7 @@ class LegKinematics:
         #: the IMU sits on the base with the base's axes (then base_rot = I and the IMU omega is the base's)
         self.imu_axes_are_base = self.imu_on_base and bool(np.allclose(self._rot_s, np.eye(3), atol=1e-12))
         self._zero = np.zeros(3)
+        np.subtract(self._pts, self._p_s, out=self._y)  # row 3 (the base origin): -p_S
 
     def _relative_to_moving_imu(
         self, pts: np.ndarray, vel: np.ndarray, qd: np.ndarray
