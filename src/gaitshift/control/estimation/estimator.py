@@ -18,8 +18,8 @@ base velocity, which makes the still sole look as if it moved.
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
 
-Cost: a tick without a correction is about 40 numpy and MuJoCo calls (docs/estimation.md "Measured cost"); the returned
-``slip`` flags are shared read-only arrays, every other returned array is fresh.
+Cost: a tick without a correction is about 39 numpy and MuJoCo calls (docs/estimation.md "Measured
+cost"); the returned ``slip`` flags are shared read-only arrays, every other returned array is fresh.
 """
 
 from __future__ import annotations

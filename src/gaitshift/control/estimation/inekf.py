@@ -283,8 +283,10 @@ class InvariantEKF:
         self._outputs()
 
     def _outputs(self) -> None:
-        """The biases (a copy: a returned array is never changed) and the trace of the base block of P."""
+        """The biases (read-only copies, returned until the next correction) and the trace of the base
+        block of P."""
         self._bias_out_g, self._bias_out_a = self._bias[0:3].copy(), self._bias[3:6].copy()
+        self._bias_out_g.flags.writeable = self._bias_out_a.flags.writeable = False
         self._cov_trace = sum(self._cov_diag[0:9].tolist())
 
     def _propagate_cov(self) -> None:
