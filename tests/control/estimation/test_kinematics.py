@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from gaitshift.control.estimation import LegKinematics
+from gaitshift.control.estimation.kinematics import kinematic_model
 from gaitshift.robots import load_robot
 
 H = 1e-6  # finite-difference step, rad
@@ -100,3 +101,20 @@ def test_kinematics_never_touch_another_mjdata(g1):
     assert kin.data is not sim
     np.testing.assert_array_equal(sim.qpos, before)
     np.testing.assert_array_equal(kin.data.qpos[3:7], [1.0, 0.0, 0.0, 0.0])  # free joint at identity
+
+
+@pytest.mark.parametrize("imu", ["imu_in_pelvis", "imu_in_torso"])
+def test_the_model_without_geoms_gives_the_same_numbers(g1, imu):
+    """The estimator's private model drops the geoms; every kinematic output stays bit-identical."""
+    bare = kinematic_model(g1)
+    assert bare.ngeom == 0 and g1.model().ngeom > 0
+    full_kin = LegKinematics(g1.model(), imu, g1.SOLE_SITES, encoder_std=0.01)
+    bare_kin = LegKinematics(bare, imu, g1.SOLE_SITES, encoder_std=0.01)
+    rng = np.random.default_rng(8)
+    for _ in range(9):  # past a variance refresh (every VAR_EVERY ticks)
+        qpos, qd = _pose(g1.model(), rng), rng.normal(0.0, 1.0, bare.nv - 6)
+        a, b = full_kin.compute(qpos[7:], qd), bare_kin.compute(qpos[7:], qd)
+        for name in ("points", "points_vel", "base_rot", "base_omega"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+        for name in ("pos", "vel", "var", "rot", "rot_var"):
+            np.testing.assert_array_equal(getattr(a.feet, name), getattr(b.feet, name))

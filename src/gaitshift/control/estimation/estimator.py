@@ -17,6 +17,9 @@ base velocity, which makes the still sole look as if it moved.
 
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
+
+Cost: a tick without a correction is about 39 numpy and MuJoCo calls (docs/estimation.md "Measured
+cost"); the returned ``slip`` flags are shared read-only arrays, every other returned array is fresh.
 """
 
 from __future__ import annotations
@@ -30,11 +33,17 @@ from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.contact import ContactDetector
 from gaitshift.control.estimation.filters import DEFAULT_FILTER, make_filter
 from gaitshift.control.estimation.joints import JointVelocityFilter
-from gaitshift.control.estimation.kinematics import LegKinematics
+from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_model
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.tuning import FilterTuning
-from gaitshift.control.estimation.types import EstimatedState, FootForces, ImuReading, JointReading
+from gaitshift.control.estimation.types import (
+    EstimatedState,
+    FootForces,
+    ImuReading,
+    JointReading,
+    new_estimated_state,
+)
 from gaitshift.errors import InputError
 
 SOLE_SITES = ("gaitshift_left_sole", "gaitshift_right_sole")
@@ -94,17 +103,25 @@ class StateEstimator:
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
         self.filter = make_filter(filter, t, gravity)
+        self.kinematics.with_rot = self.filter.uses_sole_rot
+        self._axes_are_base = self.kinematics.imu_axes_are_base
         self.slip_speed2 = float(slip_speed) ** 2
         self._slip_alpha = float(1.0 - np.exp(-dt / slip_tau))
         self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)  # (left x, y, right x, y), m/s
         self._slip = (False, False)
         self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
+        self._slip_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
+        for flags in self._slip_flags.values():
+            flags.flags.writeable = False
+        self._omega_skew9 = np.zeros(9)
+        self._omega_skew = self._omega_skew9.reshape(3, 3)
         self._quat = np.empty(4)
 
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
-        """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model and sole sites)."""
-        return cls(robot.model(), dt, sole_sites=robot.SOLE_SITES, **kwargs)
+        """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model without geoms,
+        :func:`~gaitshift.control.estimation.kinematics.kinematic_model`, and its sole sites)."""
+        return cls(kinematic_model(robot), dt, sole_sites=robot.SOLE_SITES, **kwargs)
 
     def reset(
         self,
@@ -144,8 +161,9 @@ class StateEstimator:
         rot = base.rot
         rot_t = rot.T
         y = kin.points
-        rel = kin.points_vel - y.dot(base.omega.dot(SKEW).reshape(3, 3))  # dy/dt + w x y
-        x_w = y.dot(rot_t)
+        np.dot(base.omega, SKEW, out=self._omega_skew9)
+        rel = kin.points_vel - y.dot(self._omega_skew)  # dy/dt + w x y
+        x_w = y[2:4].dot(rot_t)  # CoM and base origin (the soles' positions are not returned)
         x_w += base.pos
         v_w = rel.dot(rot_t)
         v_w += base.vel
@@ -159,24 +177,13 @@ class StateEstimator:
         if slip_l and slip_r:  # a slide biases the base velocity, so the still sole looks slow-moving too
             slip_l, slip_r = speed_l >= speed_r, speed_r > speed_l
         self._slip = (slip_l, slip_r)
-        slip = np.array(self._slip)
-        if self.kinematics.imu_axes_are_base:
+        slip = self._slip_flags[self._slip]
+        if self._axes_are_base:
             mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
             omega_w = rot.dot(base.omega)
         else:
             mujoco.mju_mat2Quat(self._quat, rot.dot(kin.base_rot).reshape(9))
             omega_w = rot.dot(base.omega + kin.base_omega)
-        return EstimatedState(
-            base_pos=x_w[3],
-            base_quat=self._quat.copy(),
-            base_vel=v_w[3],
-            base_omega=omega_w,
-            q=q,
-            qd=qd,
-            contact=contact,
-            slip=slip,
-            foot_vel=v_w[0:2],
-            com=x_w[2],
-            com_vel=v_w[2],
-            cov_trace=base.cov_trace,
+        return new_estimated_state(
+            x_w[1], self._quat.copy(), v_w[3], omega_w, q, qd, contact, slip, v_w[0:2], x_w[0], v_w[2], base.cov_trace
         )

@@ -71,7 +71,7 @@ from scipy.linalg.lapack import dposv
 from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.lie import SKEW, exp_blocks, log_rot, quat_exp, quat_of_mat
 from gaitshift.control.estimation.tuning import FilterTuning
-from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading
+from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading, new_base_state
 
 SYMMETRISE_EVERY = 16  # ticks between P <- (P + P^T) / 2 (round-off hygiene)
 
@@ -133,6 +133,7 @@ class InvariantEKF:
     def __init__(self, tuning: FilterTuning | None = None, gravity: float = 9.81, flat_feet: bool = False):
         self.tuning = t = tuning if tuning is not None else FilterTuning()
         self.flat_feet = bool(flat_feet)
+        self.uses_sole_rot = self.flat_feet  # the sole orientations are measured with flat feet only
         self.nx = nx = 27 if self.flat_feet else 21
         self._ib = ib = nx - 6  # first bias index
         self.gravity = np.array([0.0, 0.0, -gravity])
@@ -142,10 +143,15 @@ class InvariantEKF:
         # rows v, p, d_L, d_R, a_w (world); columns 0:3 the vectors, 3:6 the correction rho (rows 0:4)
         self._buf = np.zeros((5, 6))
         self._vec = self._buf[:, 0:3]
+        self._vp = self._buf[0:2, 0:3]  # v, p
+        self._acc_w = self._buf[4, 0:3]
         self._rho = self._buf[0:4, 3:6]
-        self._origin = np.zeros(3)  # o: p, d_L, d_R are relative to it (module docstring)
+        self._offset = np.zeros((2, 3))  # [0, o]: [v, p] + offset is the returned [v, o + p]
+        self._origin = self._offset[1]  # o: p, d_L, d_R are relative to it (module docstring)
         self._bias = np.zeros(6)  # b_g, b_a
         self._bias_g, self._bias_a = self._bias[0:3], self._bias[3:6]
+        self._bias_out_g, self._bias_out_a = self._bias_g.copy(), self._bias_a.copy()
+        self._cov_trace = 0.0
         self._every = int(t.correct_every)
         self._dc = 0.0
         self._gravity_step = np.zeros((2, 3))
@@ -212,6 +218,7 @@ class InvariantEKF:
         self.cov[...] = np.diag(var)  # the prior of the world-frame error, moved to the origin o = pos
         move_origin(self.cov, self._origin)
         self._in_state = [False, False]
+        self._outputs()
 
     def _set_dt(self, dt: float) -> None:
         """Constant parts of the mean step (tick ``dt``) and of Phi and Q (correction period ``dc``)."""
@@ -241,38 +248,46 @@ class InvariantEKF:
         if dt != self._dt:
             self._set_dt(dt)
         omega = imu.gyro - self._bias_g
-        self._propagate_mean(omega, imu.accel - self._bias_a, dt)
-        self._ticks += 1
-        if self._ticks % self._every == 0:
-            self._propagate_cov()
-            self._recentre()
-            left, right = bool(contact[0]), bool(contact[1])
-            was = self._in_state
-            measured = (left and was[0], right and was[1])
-            if measured[0] or measured[1]:
-                self._correct(feet, self._patterns[measured])
-            if (left and not was[0]) or (right and not was[1]):
-                self._add_contacts(feet, (left and not was[0], right and not was[1]))
-            self._in_state = [left, right]
-        vp = self._vec[0:2].copy()
-        b = self._bias.copy()
-        return BaseState(
-            rot=self.rot.copy(),
-            pos=vp[1] + self._origin,
-            vel=vp[0],
-            omega=omega,
-            gyro_bias=b[0:3],
-            accel_bias=b[3:6],
-            cov_trace=sum(self._cov_diag[0:9].tolist()),
-        )
-
-    def _propagate_mean(self, omega: np.ndarray, accel: np.ndarray, dt: float) -> None:
-        """``[v, p] <- [v + a_w dt, p + v dt + a_w dt^2 / 2]`` with ``a_w = R a + g``; ``R <- R Exp(w dt)``."""
-        vec = self._vec
-        np.dot(self.rot, accel, out=self._buf[4, 0:3])
-        vec[0:2] = self._mean_step.dot(vec) + self._gravity_step
+        # mean: [v, p] <- [v + a_w dt, p + v dt + a_w dt^2 / 2] with a_w = R a + g; R <- R Exp(w dt)
+        np.dot(self.rot, imu.accel - self._bias_a, out=self._acc_w)
+        np.add(self._mean_step.dot(self._vec), self._gravity_step, out=self._vp)
         mujoco.mju_quatIntegrate(self._quat, omega, dt)
         mujoco.mju_quat2Mat(self._rot9, self._quat)
+        self._ticks += 1
+        if self._ticks % self._every == 0:
+            self._correction_tick(feet, contact)
+        vp = self._vp + self._offset
+        return new_base_state(
+            self.rot.copy(),
+            vp[1],
+            vp[0],
+            omega,
+            self._bias_out_g,
+            self._bias_out_a,
+            self._cov_trace,
+        )
+
+    def _correction_tick(self, feet: FootKinematics, contact: np.ndarray) -> None:
+        """Covariance over the correction period, recentring, the stance-foot correction and the feet
+        that touched down; then the outputs that only change here (biases, covariance trace)."""
+        self._propagate_cov()
+        self._recentre()
+        left, right = bool(contact[0]), bool(contact[1])
+        was = self._in_state
+        measured = (left and was[0], right and was[1])
+        if measured[0] or measured[1]:
+            self._correct(feet, self._patterns[measured])
+        if (left and not was[0]) or (right and not was[1]):
+            self._add_contacts(feet, (left and not was[0], right and not was[1]))
+        self._in_state = [left, right]
+        self._outputs()
+
+    def _outputs(self) -> None:
+        """The biases (read-only copies, returned until the next correction) and the trace of the base
+        block of P."""
+        self._bias_out_g, self._bias_out_a = self._bias[0:3].copy(), self._bias[3:6].copy()
+        self._bias_out_g.flags.writeable = self._bias_out_a.flags.writeable = False
+        self._cov_trace = sum(self._cov_diag[0:9].tolist())
 
     def _propagate_cov(self) -> None:
         """``P <- Phi_aug P_aug Phi_aug^T + diag(Q) dc`` over the correction period ``dc``."""

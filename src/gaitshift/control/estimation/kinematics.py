@@ -3,7 +3,7 @@
 The estimator owns a PRIVATE ``MjData`` of the robot model with the free joint at identity, so the
 MuJoCo world frame of that data is the base frame ``B``. Per tick, for joint angles ``q`` and velocities
 ``qd``: ``mj_kinematics`` and ``mj_comPos`` give each point ``x_B`` (sole sites, whole-body CoM
-``subtree_com[root]``) and ``mj_jacSite``/``mj_jacSubtreeCom`` its Jacobian ``J_B`` (joint columns).
+``subtree_com``) and ``mj_jacSite``/``mj_jacSubtreeCom`` its Jacobian ``J_B`` (joint columns).
 With the IMU site at ``(p_S, R_S)`` in ``B`` and ``w_S = R_S^T J_rot,S qd`` its angular velocity::
 
     y = R_S^T (x_B - p_S)                                           (position in the IMU frame)
@@ -12,12 +12,19 @@ With the IMU site at ``(p_S, R_S)`` in ``B`` and ``w_S = R_S^T J_rot,S qd`` its 
 (for an IMU on the base, ``J_S = 0`` and ``w_S = 0``). The sole-position noise from encoder noise
 ``s_q`` is ``J Sigma_q J^T``; the filters get its isotropic equivalent ``s_q^2 |J|_F^2 / 3`` per foot
 (and the same with the rotational Jacobian for the sole orientation ``R_S^T R_sole``), refreshed every
-``VAR_EVERY`` ticks.
+``VAR_EVERY`` ticks (the rotational Jacobians are computed on those ticks only).
 The simulator's ``MjData`` is never touched.
+
+Per-tick cost (the estimator's hot path, docs/estimation.md "Measured cost"): for an IMU on the base
+with the base's axes the result is the object's own buffers, filled in place (no per-tick objects);
+the soles' orientations are read only when ``with_rot`` (the filter measures them); the CoM Jacobian
+is that of subtree 0 (the world's) when the robot carries all the mass: the same numbers, and MuJoCo
+computes it in half the time of the root's subtree.
 """
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,6 +35,44 @@ from gaitshift.control.estimation.types import FootKinematics
 from gaitshift.errors import InputError
 
 VAR_EVERY = 8  # ticks between refreshes of the encoder-noise variance of the soles (J changes slowly)
+#: what the kinematics read of a model: a model without geoms must agree on all of it
+KINEMATIC_FIELDS = (
+    "body_parentid",
+    "body_pos",
+    "body_quat",
+    "body_ipos",
+    "body_iquat",
+    "body_mass",
+    "body_inertia",
+    "body_subtreemass",
+    "jnt_type",
+    "jnt_qposadr",
+    "jnt_dofadr",
+    "jnt_bodyid",
+    "jnt_pos",
+    "jnt_axis",
+    "dof_bodyid",
+    "site_bodyid",
+    "site_pos",
+    "site_quat",
+    "qpos0",
+)
+
+
+@functools.lru_cache(maxsize=8)
+def kinematic_model(robot: Any) -> Any:
+    """The robot's model (:class:`gaitshift.robots.RobotConfig`) without geoms and meshes, for the
+    estimator's private kinematics: ``mj_kinematics`` then poses bodies and sites only (a third less
+    work on the G1's 71 geoms). Falls back to ``robot.model()`` when removing the geoms changes any of
+    :data:`KINEMATIC_FIELDS` (e.g. masses inferred from the geoms)."""
+    model = robot.model()
+    spec = mujoco.MjSpec.from_file(str(robot.mjcf))
+    robot.add_sole_sites(spec)
+    for item in [*spec.geoms, *spec.meshes]:
+        spec.delete(item)
+    bare = spec.compile()
+    same = all(np.array_equal(getattr(model, f), getattr(bare, f)) for f in KINEMATIC_FIELDS)
+    return bare if same and bare.nsite == model.nsite else model
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,14 +132,30 @@ class LegKinematics:
         self._rot_var = np.zeros(2)
         self._site_xpos = self.data.site_xpos  # views into the private MjData (fixed buffers)
         self._site_xmat = self.data.site_xmat
-        self._com_view = self.data.subtree_com[self._root]
+        # the whole-body CoM: subtree 0 (the world's) when the robot carries all the mass (MuJoCo's
+        # mj_jacSubtreeCom is twice as fast there), else the root's
+        self._com_body = 0 if model.body_subtreemass[0] == model.body_subtreemass[self._root] else self._root
+        self._com_view = self.data.subtree_com[self._com_body]
+        self._vel_flat = np.zeros(12)  # the points' velocities (4, 3), and the soles' orientations (2, 3, 3)
+        self._vel = self._vel_flat.reshape(4, 3)
+        self._y = np.zeros((4, 3))
+        self._y_soles, self._y_com = self._y[0:2], self._y[2]
+        left, right = self._soles  # the soles' rows of site_xpos as one view
+        step, lo = abs(right - left), min(left, right)
+        rows = self.data.site_xpos[lo : lo + step + 1 : step] if step else self.data.site_xpos[lo : lo + 1]
+        self._soles_xpos = rows if left <= right else rows[::-1]
+        self._rot_flat = np.zeros((2, 9))
+        self._rot = self._rot_flat.reshape(2, 3, 3)
         self._ticks = 0
+        #: fill ``feet.rot`` (the soles' orientations); when False it keeps its last value
+        self.with_rot = True
         self._var = np.zeros(2)
         self.data.qpos[:] = model.qpos0
         self.data.qpos[:7] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
         self._qpos = self.data.qpos
         mujoco.mj_kinematics(model, self.data)
         self._set_base_constants()
+        self._refresh_variances()
 
     def _site(self, name: str, field: str) -> int:
         sid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_SITE, name)
@@ -106,34 +167,41 @@ class LegKinematics:
     @classmethod
     def from_robot(cls, robot: Any, imu_site: str = "imu_in_pelvis", encoder_std: float = 0.0) -> LegKinematics:
         """Kinematics of a :class:`gaitshift.robots.RobotConfig` (its sole sites), IMU at ``imu_site``."""
-        return cls(robot.model(), imu_site, robot.SOLE_SITES, encoder_std)
+        return cls(kinematic_model(robot), imu_site, robot.SOLE_SITES, encoder_std)
 
     def compute(self, q: np.ndarray, qd: np.ndarray) -> BodyKinematics:
-        """Kinematics at joint angles ``q`` (nj,) rad and velocities ``qd`` (nj,) rad/s."""
-        m, d, jac = self.model, self.data, self._jac
+        """Kinematics at joint angles ``q`` (nj,) rad and velocities ``qd`` (nj,) rad/s.
+
+        For an IMU on the base with the base's axes (the G1's pelvis IMU) the result's arrays are the
+        object's own buffers, rewritten by the next call: read them before computing again."""
+        m, d, rows = self.model, self.data, self._jac_rows
         self._qpos[7:] = q
         self._qvel[6:] = qd
         mujoco.mj_kinematics(m, d)
         mujoco.mj_comPos(m, d)
-        mujoco.mj_jacSite(m, d, self._jac_rows[0], self._jacr_rows[0], self._soles[0])
-        mujoco.mj_jacSite(m, d, self._jac_rows[1], self._jacr_rows[1], self._soles[1])
-        mujoco.mj_jacSubtreeCom(m, d, self._jac_rows[2], self._root)
-        pts = self._pts
-        self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
-        pts[2] = self._com_view
-        vel = jac.dot(self._qvel).reshape(4, 3)  # free-joint columns meet zeros
+        refresh = self._ticks % VAR_EVERY == 0  # the rotational Jacobians serve the variances only
+        jacr = self._jacr_rows if refresh else (None, None)
+        mujoco.mj_jacSite(m, d, rows[0], jacr[0], self._soles[0])
+        mujoco.mj_jacSite(m, d, rows[1], jacr[1], self._soles[1])
+        mujoco.mj_jacSubtreeCom(m, d, rows[2], self._com_body)
+        if self.imu_axes_are_base:  # y = x_B - p_S straight from MuJoCo's arrays (row 3, -p_S, is fixed)
+            np.subtract(self._soles_xpos, self._p_s, out=self._y_soles)
+            np.subtract(self._com_view, self._p_s, out=self._y_com)
+        else:
+            self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
+            self._pts[2] = self._com_view
+        pts, vel = self._pts, self._vel
+        np.dot(self._jac, self._qvel, out=self._vel_flat)  # free-joint columns meet zeros
         self._ticks += 1
-        if self._ticks % VAR_EVERY == 1:
-            scale = self.encoder_std**2 / 3.0
-            self._var = scale * np.square(jac[0:6, 6:]).reshape(2, -1).sum(axis=1)
-            self._rot_var = scale * np.square(self._jacr[:, 6:]).reshape(2, -1).sum(axis=1)
-        rot = self._site_xmat.take(self._sole_ids, axis=0).reshape(2, 3, 3)
-        if not self.imu_axes_are_base:
-            rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, rot)
+        if refresh:
+            self._refresh_variances()
+        if self.with_rot:
+            self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
+        if self.imu_axes_are_base:
+            return self._body
+        rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, self._rot)
         if not self.imu_on_base:
             y, ydot, base_rot, base_omega = self._relative_to_moving_imu(pts, vel, qd)
-        elif self.imu_axes_are_base:
-            y, ydot, base_rot, base_omega = pts - self._p_s, vel, self._base_rot, self._zero
         else:
             y, ydot, base_rot, base_omega = (
                 (pts - self._p_s).dot(self._rot_s),
@@ -144,6 +212,16 @@ class LegKinematics:
         feet = FootKinematics(pos=y[0:2], vel=ydot[0:2], var=self._var, rot=rot, rot_var=self._rot_var)
         return BodyKinematics(feet, y, ydot, base_rot, base_omega)
 
+    def _refresh_variances(self) -> None:
+        """Encoder-noise variances of the soles' positions and orientations (module docstring); for an
+        IMU on the base with the base's axes, the result object that holds the new arrays."""
+        scale = self.encoder_std**2 / 3.0
+        self._var = scale * np.square(self._jac[0:6, 6:]).reshape(2, -1).sum(axis=1)
+        self._rot_var = scale * np.square(self._jacr[:, 6:]).reshape(2, -1).sum(axis=1)
+        y = self._y
+        feet = FootKinematics(pos=y[0:2], vel=self._vel[0:2], var=self._var, rot=self._rot, rot_var=self._rot_var)
+        self._body = BodyKinematics(feet, y, self._vel, self._base_rot, self._zero)
+
     def _set_base_constants(self) -> None:
         """IMU site pose in the base frame (constant for an IMU on the base)."""
         d = self.data
@@ -153,6 +231,7 @@ class LegKinematics:
         #: the IMU sits on the base with the base's axes (then base_rot = I and the IMU omega is the base's)
         self.imu_axes_are_base = self.imu_on_base and bool(np.allclose(self._rot_s, np.eye(3), atol=1e-12))
         self._zero = np.zeros(3)
+        np.subtract(self._pts, self._p_s, out=self._y)  # row 3 (the base origin): -p_S
 
     def _relative_to_moving_imu(
         self, pts: np.ndarray, vel: np.ndarray, qd: np.ndarray

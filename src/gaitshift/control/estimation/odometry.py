@@ -26,7 +26,7 @@ import numpy as np
 from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.lie import SKEW, quat_of_mat
 from gaitshift.control.estimation.tuning import FilterTuning
-from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading
+from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading, new_base_state
 
 
 class LegOdometry:
@@ -36,6 +36,8 @@ class LegOdometry:
         tuning: time constants ``attitude_tau``, ``bias_tau``, ``velocity_tau`` (``FilterTuning``).
         gravity: g, m/s^2.
     """
+
+    uses_sole_rot = False  # point feet: the sole orientations are not read
 
     def __init__(self, tuning: FilterTuning | None = None, gravity: float = 9.81):
         self.tuning = tuning if tuning is not None else FilterTuning()
@@ -49,6 +51,8 @@ class LegOdometry:
         self._anchor = np.zeros((2, 3))
         self._anchored = [False, False]
         self._w = np.zeros(3)
+        self._zero = np.zeros(3)  # the accelerometer bias this filter reports (read-only)
+        self._zero.flags.writeable = False
         self._weights = {(True, False): np.array([1.0, 0.0]), (False, True): np.array([0.0, 1.0])}
         self._weights[True, True] = np.array([0.5, 0.5])
 
@@ -99,12 +103,6 @@ class LegOdometry:
             self._vel = v_imu
             self._pos = self._pos + dt * v_imu
         self._anchored = stance
-        return BaseState(
-            rot=self.rot.copy(),
-            pos=self._pos.copy(),
-            vel=self._vel.copy(),
-            omega=omega,
-            gyro_bias=self._bias.copy(),
-            accel_bias=np.zeros(3),
-            cov_trace=None,
+        return new_base_state(
+            self.rot.copy(), self._pos.copy(), self._vel.copy(), omega, self._bias.copy(), self._zero, None
         )

@@ -5,13 +5,16 @@ Frames: ``world`` is z-up with gravity ``(0, 0, -g)``; the ``IMU`` frame is the 
 free joint (the G1's pelvis). All units SI; quaternions are ``(w, x, y, z)`` as in MuJoCo.
 
 Every type is a frozen dataclass holding numpy arrays; the estimator never mutates an array it has
-returned (each tick's arrays are fresh).
+returned (each tick's arrays are fresh, or read-only). The per-tick path builds :class:`BaseState` and
+:class:`EstimatedState` with :func:`new_base_state` and :func:`new_estimated_state`: the same frozen
+objects, their slots filled through the slot descriptors instead of the dataclass ``__init__``'s
+``object.__setattr__`` per field (2x cheaper: 1.1 against 2.3 µs for 7 fields).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -107,7 +110,11 @@ class BaseState:
 
 
 class BaseFilter(Protocol):
-    """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``)."""
+    """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``).
+
+    ``uses_sole_rot``: whether ``step`` reads ``feet.rot`` (the kinematics skip it otherwise)."""
+
+    uses_sole_rot: bool
 
     def reset(
         self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None, gyro_bias: GyroCalibration | None = None
@@ -164,3 +171,58 @@ class EstimatedState:
         """MuJoCo ``qvel`` (6 + nj,): world linear velocity, body-frame angular velocity, joints."""
         rot = mat_of_quat(self.base_quat)
         return np.concatenate([self.base_vel, rot.T @ self.base_omega, self.qd])
+
+
+_new = object.__new__
+
+
+def _slot_setters(cls: type, names: tuple[str, ...]) -> tuple[Any, ...]:
+    return tuple(cls.__dict__[name].__set__ for name in names)
+
+
+_BASE = _slot_setters(BaseState, ("rot", "pos", "vel", "omega", "gyro_bias", "accel_bias", "cov_trace"))
+_EST = _slot_setters(
+    EstimatedState,
+    ("base_pos", "base_quat", "base_vel", "base_omega", "q", "qd", "contact", "slip", "foot_vel", "com", "com_vel"),
+)
+_EST_TRACE = EstimatedState.__dict__["cov_trace"].__set__
+
+
+def new_base_state(
+    rot: np.ndarray,
+    pos: np.ndarray,
+    vel: np.ndarray,
+    omega: np.ndarray,
+    gyro_bias: np.ndarray,
+    accel_bias: np.ndarray,
+    cov_trace: float | None,
+) -> BaseState:
+    """``BaseState(rot, pos, vel, omega, gyro_bias, accel_bias, cov_trace)``, built for the per-tick path."""
+    out = _new(BaseState)
+    s = _BASE
+    s[0](out, rot), s[1](out, pos), s[2](out, vel), s[3](out, omega)
+    s[4](out, gyro_bias), s[5](out, accel_bias), s[6](out, cov_trace)
+    return out
+
+
+def new_estimated_state(
+    base_pos: np.ndarray,
+    base_quat: np.ndarray,
+    base_vel: np.ndarray,
+    base_omega: np.ndarray,
+    q: np.ndarray,
+    qd: np.ndarray,
+    contact: np.ndarray,
+    slip: np.ndarray,
+    foot_vel: np.ndarray,
+    com: np.ndarray,
+    com_vel: np.ndarray,
+    cov_trace: float | None,
+) -> EstimatedState:
+    """``EstimatedState(...)`` (same argument order), built for the per-tick path."""
+    out = _new(EstimatedState)
+    s = _EST
+    s[0](out, base_pos), s[1](out, base_quat), s[2](out, base_vel), s[3](out, base_omega), s[4](out, q)
+    s[5](out, qd), s[6](out, contact), s[7](out, slip), s[8](out, foot_vel), s[9](out, com), s[10](out, com_vel)
+    _EST_TRACE(out, cov_trace)
+    return out
