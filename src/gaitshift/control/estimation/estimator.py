@@ -2,12 +2,13 @@
 
 Per tick (period ``dt``)::
 
-    contact  = ContactDetector(forces)                    hysteresis + debounce on the sole forces
+    stance   = ContactDetector(forces)                    hysteresis + debounce on the sole forces
     q, qd    = JointVelocityFilter(encoders, driver qd)   steady-state Kalman filter per joint
     kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
-    R, p, v  = filter.step(imu, kin.feet, contact, dt)    "inekf" (default) or "leg-odometry"
+    R, p, v  = filter.step(imu, kin.feet, stance, dt)     "inekf" (default) or "leg-odometry"
     x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
-    slip_i   = contact_i and |LP(v_w,i)|_xy > slip_speed   a stance sole that moves: lower the friction
+    slip_i   = stance_i and |LP(v_w,i)|_xy > slip_speed    a stance sole that moves: lower the friction
+    contact  = ContactFusion(forces, z_low, vz, planned)  force, sole height and plan fused (contact_fusion.py)
 
 ``LP`` is a first-order low-pass (time constant ``slip_tau``) on the sole's velocity vector, reset in
 swing: zero-mean noise of the joint velocities averages out, a sustained slide does not. A sole that
@@ -15,19 +16,28 @@ slips is no contact for the filter at the next tick (its kinematics would drag t
 if both soles exceed the threshold, only the faster one slips: a sliding sole biases the estimated
 base velocity, which makes the still sole look as if it moved.
 
+Two contact flags. ``stance`` (the force trigger alone) is what the base filter, the slip test and,
+in the loop, the foot scheduler's touchdown events use: a sole the filter pins, or the controller
+loads, must carry a clear force (a lightly loaded sole can slide). ``contact`` is the estimate of
+"the sole touches the floor": force, the sole's lowest point ``z_low`` and vertical speed ``vz`` from
+this tick's estimate, and the plan's contact flags ``planned`` when the caller gives them, fused
+(:mod:`gaitshift.control.estimation.contact_fusion`).
+
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import mujoco
 import numpy as np
 
 from gaitshift.control.estimation.calibration import GyroCalibration
-from gaitshift.control.estimation.contact import ContactDetector
+from gaitshift.control.estimation.contact import ON_SIGMAS, ContactDetector
+from gaitshift.control.estimation.contact_fusion import ContactFusion
 from gaitshift.control.estimation.filters import DEFAULT_FILTER, make_filter
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics
@@ -57,6 +67,8 @@ class StateEstimator:
         slip_speed: horizontal stance-sole speed above which the sole slips, m/s.
         slip_tau: time constant of the low-pass on the sole velocity before that test, s.
         gravity: g, m/s^2.
+        sole_points: per sole, its contact points (n, 3) in the sole-site frame, m (the lowest of them
+            gives the sole's height for the fused contact); None: the sole centre alone.
     """
 
     def __init__(
@@ -76,6 +88,7 @@ class StateEstimator:
         slip_speed: float = 0.2,
         slip_tau: float = 0.03,
         gravity: float = 9.81,
+        sole_points: tuple[np.ndarray, np.ndarray] | None = None,
     ):
         if not dt > 0:
             raise InputError("estimator.dt", dt, "a period > 0 s")
@@ -90,6 +103,11 @@ class StateEstimator:
         self.contact = ContactDetector(
             self.kinematics.mass * gravity, contact_on, contact_off, debounce, contact_window
         )
+        c = self.contact
+        force_std = max(c.on_force / ON_SIGMAS, 1e-9) * math.sqrt(c.window)  # one sample (noise_thresholds)
+        self.fusion = ContactFusion(c.on_force, c.off_force, force_std, c.window)
+        pts = sole_points if sole_points is not None else (np.zeros((1, 3)), np.zeros((1, 3)))
+        self._sole_points = (np.asarray(pts[0], float).reshape(-1, 3), np.asarray(pts[1], float).reshape(-1, 3))
         n = self.kinematics.n_joints
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
@@ -104,7 +122,8 @@ class StateEstimator:
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
         """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model and sole sites)."""
-        return cls(robot.model(), dt, sole_sites=robot.SOLE_SITES, **kwargs)
+        left, right = (np.asarray(s.points) for s in robot.soles)
+        return cls(robot.model(), dt, sole_sites=robot.SOLE_SITES, sole_points=(left, right), **kwargs)
 
     def reset(
         self,
@@ -130,11 +149,15 @@ class StateEstimator:
         self.filter.reset(rot, pos, vel, gyro_bias)
         self.joints.reset(q, qd)
         self.contact.reset(contact)
+        self.fusion.reset(contact)
         self._slip = (False, False)
         self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)
 
-    def step(self, imu: ImuReading, joints: JointReading, forces: FootForces) -> EstimatedState:
-        """One tick: readings in, the estimated state out (module docstring)."""
+    def step(
+        self, imu: ImuReading, joints: JointReading, forces: FootForces, planned: np.ndarray | None = None
+    ) -> EstimatedState:
+        """One tick: readings in, the estimated state out (module docstring); ``planned`` (2,) bool: the
+        contact flags of the controller's plan at this tick (None: the contact flags ignore the plan)."""
         contact = self.contact.update(forces)
         q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
@@ -160,6 +183,7 @@ class StateEstimator:
             slip_l, slip_r = speed_l >= speed_r, speed_r > speed_l
         self._slip = (slip_l, slip_r)
         slip = np.array(self._slip)
+        fused = self.fusion.update(forces.normal, self._lowest(rot[2], x_w, kin.feet.rot), v_w[0:2, 2], planned)
         if self.kinematics.imu_axes_are_base:
             mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
             omega_w = rot.dot(base.omega)
@@ -173,10 +197,22 @@ class StateEstimator:
             base_omega=omega_w,
             q=q,
             qd=qd,
-            contact=contact,
+            contact=fused,
+            stance=contact,
             slip=slip,
             foot_vel=v_w[0:2],
             com=x_w[2],
             com_vel=v_w[2],
             cov_trace=base.cov_trace,
+        )
+
+    def _lowest(self, up: np.ndarray, x_w: np.ndarray, sole_rot: np.ndarray) -> np.ndarray:
+        """World height (2,) of each sole's lowest contact point: ``x_w,z + min_j (R_s^T R^T e_z) . p_j``
+        (``up`` = ``R^T e_z``, the world vertical in the IMU frame; ``sole_rot`` (2, 3, 3) in the IMU frame)."""
+        left, right = self._sole_points
+        return np.array(
+            [
+                x_w[0, 2] + float(np.min(left.dot(up.dot(sole_rot[0])))),
+                x_w[1, 2] + float(np.min(right.dot(up.dot(sole_rot[1])))),
+            ]
         )

@@ -134,7 +134,10 @@ class EstimatedState:
         base_vel: (3,) base origin linear velocity, world frame, m/s.
         base_omega: (3,) base angular velocity, world frame, rad/s.
         q, qd: (nj,) filtered joint positions, rad, and velocities, rad/s.
-        contact: (2,) bool, [left, right] sole in stance (force-based, with hysteresis).
+        contact: (2,) bool, [left, right] sole in contact: force, sole height and speed, and the plan
+            fused (:mod:`gaitshift.control.estimation.contact_fusion`).
+        stance: (2,) bool, sole carrying a clear load: the force trigger alone (hysteresis), the flags
+            the base filter uses.
         slip: (2,) bool, stance sole moving faster than the slip threshold.
         foot_vel: (2, 3) estimated world velocity of each sole centre, m/s.
         com: (3,) whole-body centre of mass, m.
@@ -150,6 +153,7 @@ class EstimatedState:
     q: np.ndarray
     qd: np.ndarray
     contact: np.ndarray
+    stance: np.ndarray
     slip: np.ndarray
     foot_vel: np.ndarray
     com: np.ndarray
