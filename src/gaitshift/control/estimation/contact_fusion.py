@@ -97,31 +97,30 @@ class ContactFusion:
     ) -> np.ndarray:
         """One tick: normal forces (2,) N, lowest-point heights (2,) m and vertical speeds (2,) m/s of
         the soles (estimate, world frame), the plan's contact flags (2,) or None; the flags (2,) bool."""
-        state, ground = self._state, self.ground
-        for i, (f, z, v) in enumerate(zip(force.tolist(), height.tolist(), vz.tolist(), strict=True)):
-            recent = self._recent[i]
+        state, ground, near_band, still = self._state, self.ground, self.near, self.still
+        forces, heights = force.tolist(), height.tolist()
+        for i, v in enumerate(vz.tolist()):
+            f, recent = forces[i], self._recent[i]
             recent.append(f)
             if len(recent) > self.window:
                 del recent[0]
             mean = sum(recent) / len(recent)
-            near = ground is not None and abs(z - ground) < self.near
+            near = ground is not None and abs(heights[i] - ground) < near_band
             plan = planned is None or bool(planned[i])
-            rest = near and abs(v) < self.still
+            rest = near and -still < v < still
             if state[i]:
                 low = mean if plan else min(mean, f)
-                state[i] = not (low < self.off_force and not (rest and planned is not None))
+                state[i] = low >= self.off_force or (rest and planned is not None)
                 self._cusum[i] = 0.0
             elif near:
                 s = max(0.0, self._cusum[i] + self._gain * (f - self._half))
-                support = planned is not None and plan and rest
-                state[i] = mean > self.on_force or support or s > CUSUM_THRESHOLD
+                state[i] = mean > self.on_force or (rest and plan and planned is not None) or s > CUSUM_THRESHOLD
                 self._cusum[i] = 0.0 if state[i] else s
             else:
                 state[i] = mean > self.on_force
                 self._cusum[i] = 0.0
-        loaded = [
-            z for z, on, f in zip(height.tolist(), state, force.tolist(), strict=True) if on and f > self.on_force
-        ]
-        if loaded:
-            self.ground = sum(loaded) / len(loaded)
+        on = self.on_force
+        left, right = state[0] and forces[0] > on, state[1] and forces[1] > on
+        if left or right:
+            self.ground = (heights[0] + heights[1]) / 2 if left and right else heights[0 if left else 1]
         return np.array(state)

@@ -107,7 +107,9 @@ class StateEstimator:
         force_std = max(c.on_force / ON_SIGMAS, 1e-9) * math.sqrt(c.window)  # one sample (noise_thresholds)
         self.fusion = ContactFusion(c.on_force, c.off_force, force_std, c.window)
         pts = sole_points if sole_points is not None else (np.zeros((1, 3)), np.zeros((1, 3)))
-        self._sole_points = (np.asarray(pts[0], float).reshape(-1, 3), np.asarray(pts[1], float).reshape(-1, 3))
+        left, right = (np.asarray(p, float).reshape(-1, 3) for p in pts)
+        most = max(len(left), len(right))  # pad the shorter set with its first point (the min is unchanged)
+        self._sole_points = np.stack([np.vstack([p, np.repeat(p[:1], most - len(p), axis=0)]) for p in (left, right)])
         n = self.kinematics.n_joints
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
@@ -209,10 +211,7 @@ class StateEstimator:
     def _lowest(self, up: np.ndarray, x_w: np.ndarray, sole_rot: np.ndarray) -> np.ndarray:
         """World height (2,) of each sole's lowest contact point: ``x_w,z + min_j (R_s^T R^T e_z) . p_j``
         (``up`` = ``R^T e_z``, the world vertical in the IMU frame; ``sole_rot`` (2, 3, 3) in the IMU frame)."""
-        left, right = self._sole_points
-        return np.array(
-            [
-                x_w[0, 2] + float(np.min(left.dot(up.dot(sole_rot[0])))),
-                x_w[1, 2] + float(np.min(right.dot(up.dot(sole_rot[1])))),
-            ]
-        )
+        u = up.dot(sole_rot)  # (2, 3): the world vertical in each sole frame
+        low: np.ndarray = np.matmul(self._sole_points, u[:, :, None]).min(axis=1)[:, 0]
+        low += x_w[0:2, 2]
+        return low
