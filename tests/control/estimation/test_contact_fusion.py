@@ -1,9 +1,9 @@
-"""Fused contact: without a plan and away from the ground level it is the force trigger; a sole the
-plan holds in stance that rests at the ground level stays on through a force below the noise, and is
-released once the plan lifts it or it rises; a small sustained load on a sole at the ground level is
-found by the CUSUM within its expected delay while pure noise there almost never switches it on, and
-the same load above the ground band never does; in the plan's swing the latest sample releases the
-sole at once; bad settings raise InputError."""
+"""Fused contact: without a plan and away from the ground level it is the force trigger; a sole that
+rests at the ground level stays on through a force below the noise, and is released once it rises or
+moves; an off sole resting at the ground switches on in the plan's stance only; a small sustained
+load on a sole at the ground level is found by the CUSUM within its expected delay while pure noise
+there rarely switches it on, and the same load above the ground band is left to the force trigger; in
+the plan's swing the latest sample releases the sole at once; bad settings raise InputError."""
 
 from __future__ import annotations
 
