@@ -5,10 +5,8 @@ The plant's ``MjData`` is read here only by the sensor model (:mod:`gaitshift.si
 (:meth:`Sensing.actuate`). Per tick::
 
     readings = sensors(plant)                         IMU, encoders, driver velocity, sole forces
-    x_hat    = estimator.step(readings, planned, qdd) StateEstimator (inekf by default); planned: the plan's
-                                                      contact flags at this tick (the fused contact); qdd:
-                                                      the joint accelerations of the command acting over the
-                                                      last tick (the joint filter's input)
+    x_hat    = estimator.step(readings, planned)      StateEstimator (inekf by default); planned: the plan's
+                                                      contact flags at this tick (the fused contact)
     x_ctrl   = x_hat  (estimated)  |  x_true (oracle) one state for controller, re-planner and step feedback
     x_ctrl   = predict(x_ctrl, pending commands)      latency compensation (gaitshift.sim.latency)
     ctrl_data.qpos, qvel = x_ctrl; mj_forward         the controller's OWN MjData (contacts off)
@@ -29,7 +27,6 @@ from __future__ import annotations
 
 import copy
 import time
-from collections import deque
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -160,8 +157,6 @@ class Sensing:
         self.cdata = mujoco.MjData(m)
         profile = noise_profile(opts.noise).scaled(float(opts.noise_scale))
         self.log = EstimationLog()
-        #: joint accelerations of the last latency + 1 commands: the oldest is the one acting now
-        self._acting: deque[np.ndarray] = deque(maxlen=int(opts.latency) + 1)
         if not self.has_imu:  # no IMU in the model: the truth only, and no estimation metrics
             if not self.oracle:
                 raise InputError("--state", opts.state, f"oracle: the robot's model has no IMU site '{IMU_SITE}'")
@@ -213,8 +208,7 @@ class Sensing:
         else:
             r = self.sensors.read(d)
             t0 = time.perf_counter()
-            acting = self._acting[0] if len(self._acting) == self._acting.maxlen else None
-            s = self.estimator.step(r.imu, r.joints, r.forces, planned, acting)
+            s = self.estimator.step(r.imu, r.joints, r.forces, planned)
             cost = 1e6 * (time.perf_counter() - t0)
             q_est, v_est, touch_est, slip_est, com, com_vel = s.qpos(), s.qvel(), s.stance, s.slip, s.com, s.com_vel
             fused = s.contact
@@ -253,7 +247,6 @@ class Sensing:
 
     def actuate(self, d: Any, tau: np.ndarray, qdd: np.ndarray | None) -> np.ndarray:
         """Send the command: write into the plant the torques that act now (after the latency)."""
-        self._acting.append(np.zeros(self.plant.model.nv - 6) if qdd is None else np.asarray(qdd, float)[6:].copy())
         applied = self.pipe.send(tau, qdd)
         d.ctrl[:] = applied
         return applied

@@ -3,7 +3,7 @@
 Per tick (period ``dt``)::
 
     stance   = ContactDetector(forces)                    hysteresis + debounce on the sole forces
-    q, qd    = JointVelocityFilter(encoders, driver qd, commanded qdd)   steady-state Kalman filter per joint
+    q, qd    = JointVelocityFilter(encoders, driver qd)   steady-state Kalman filter per joint
     kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
     R, p, v  = filter.step(imu, kin.feet, stance, dt)     "inekf" (default) or "leg-odometry"
     x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
@@ -156,19 +156,12 @@ class StateEstimator:
         self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)
 
     def step(
-        self,
-        imu: ImuReading,
-        joints: JointReading,
-        forces: FootForces,
-        planned: np.ndarray | None = None,
-        accel: np.ndarray | None = None,
+        self, imu: ImuReading, joints: JointReading, forces: FootForces, planned: np.ndarray | None = None
     ) -> EstimatedState:
         """One tick: readings in, the estimated state out (module docstring); ``planned`` (2,) bool: the
-        contact flags of the controller's plan at this tick (None: the contact flags ignore the plan);
-        ``accel`` (nj,) rad/s^2: the joint accelerations the controller commanded over the tick that
-        just ended (the joint filter's input; None: unknown)."""
+        contact flags of the controller's plan at this tick (None: the contact flags ignore the plan)."""
         contact = self.contact.update(forces)
-        q, qd = self.joints.update(joints.q, joints.qd, accel)
+        q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
         left, right = contact.tolist()
         stance = self._stance[left and not self._slip[0], right and not self._slip[1]]  # slipping soles drop out

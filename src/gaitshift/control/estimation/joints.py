@@ -6,14 +6,8 @@ Model of each joint (constant velocity driven by white acceleration of density `
     Q = s_a^2 [[dt^3/3, dt^2/2], [dt^2/2, dt]]                                   (Bar-Shalom 2001, 6.2.2)
     z_k = x_k + v_k,   Rz = diag(s_q^2, s_qd^2)     (encoder position, driver velocity)
 
-With a known joint acceleration ``u_k`` over the tick (the controller's commanded ``qdd``), the
-prediction takes it as input, ``x_{k+1} = F x_k + B u_k``, ``B = [dt^2/2, dt]``, and the white
-acceleration then models only what the command does not explain: a commanded acceleration costs the
-estimate no lag (without the input, 100 rad/s^2 leaves the velocity 0.27 rad/s behind with the
-``rl-peer`` noise; docs/estimation.md).
-
 The gain ``K`` of the stationary filter solves the discrete Riccati equation once (scipy
-``solve_discrete_are``); each tick is then ``x <- (I - K) (F x + B u) + K z``, two (2, 2) @ (2, nj) products.
+``solve_discrete_are``); each tick is then ``x <- (I - K) F x + K z``, two (2, 2) @ (2, nj) products.
 The same gain serves every joint (same sensors); a joint's filtered velocity combines the encoder's
 position differences (low noise, quantised) with the driver's velocity (noisy, no lag).
 """
@@ -47,7 +41,6 @@ class JointVelocityFilter:
         p_prior = solve_discrete_are(f.T, np.eye(2), q, rz)  # predicted covariance, steady state
         self.gain = p_prior @ np.linalg.inv(p_prior + rz)  # (2, 2)
         self._a = (np.eye(2) - self.gain) @ f
-        self._b = (np.eye(2) - self.gain) @ np.array([dt * dt / 2.0, dt])  # input column of u, after the update
         self._x = np.zeros((2, n_joints))
         self._z = np.zeros((2, n_joints))
         self._started = False
@@ -58,9 +51,8 @@ class JointVelocityFilter:
         self._x[1] = 0.0 if qd is None else qd
         self._started = True
 
-    def update(self, q: np.ndarray, qd: np.ndarray, accel: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Feed one tick of readings (nj,) and, if known, the joint accelerations (nj,) rad/s^2 that acted
-        over the tick (the prediction's input ``u``); return the filtered (q, qd), fresh arrays (nj,)."""
+    def update(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Feed one tick of readings (nj,); return the filtered (q, qd), fresh arrays (nj,)."""
         if not self._started:
             self.reset(q, qd)
         z = self._z
@@ -68,7 +60,5 @@ class JointVelocityFilter:
         z[1] = qd
         x = self._a.dot(self._x)
         x += self.gain.dot(z)
-        if accel is not None:
-            x += np.outer(self._b, accel)
         self._x = x
         return x[0], x[1]
