@@ -13,6 +13,7 @@ estimate: ``est_*`` of :class:`gaitshift.sim.sensing.EstimationLog`), over the t
   carries a nonzero normal force (a sole sphere in MuJoCo's contact list whose contact force has a
   positive normal component; a listed contact with zero force, e.g. a sphere inside the contact margin
   after lift-off, is no contact); ``contact_accuracy_list``: the same against the contact list alone;
+  ``contact_accuracy_force``: the same for the force-confirmed ``est_stance`` (the scheduler's flags);
 * ``com_rmse``, ``com_vel_rmse``: 3D CoM position (m) and velocity (m/s) RMS errors;
 * ``slip_ticks``: ticks with a slip flag; ``tick_us``: median cost of ``StateEstimator.step``, µs;
 * ``used_by_controller``: true for ``state="estimated"`` (in oracle runs the estimator runs alongside).
@@ -66,6 +67,9 @@ def estimation_errors(a: dict[str, np.ndarray]) -> dict[str, Any]:
         "distance": travelled,
         "contact_accuracy": float(np.mean(np.all(a["est_contact"][s] == loaded, axis=1))),
         "contact_accuracy_list": float(np.mean(np.all(a["est_contact"][s] == a["contact"][s], axis=1))),
+        "contact_accuracy_force": float(np.mean(np.all(a["est_stance"][s] == loaded, axis=1)))
+        if "est_stance" in a
+        else None,
         "com_rmse": _rms(a["est_com"][s] - a["com_pos"][s]),
         "com_vel_rmse": _rms(a["est_com_vel"][s] - a["com_vel"][s]),
         "slip_ticks": int(np.sum(np.any(a["est_slip"][s], axis=1))),

@@ -234,7 +234,8 @@ class _Run:
             if why is not None:
                 fell, fall_time, reason, n_done = True, tp, why, k
                 break
-            view = self.sensing.observe(k, d, contacts)
+            planned = self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)]  # the plan, not the plant
+            view = self.sensing.observe(k, d, contacts, planned)
             for hook in self.sense_hooks:
                 hook(k, tp, d)
             i = self.plan_index(tp, view)

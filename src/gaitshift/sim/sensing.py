@@ -5,7 +5,8 @@ The plant's ``MjData`` is read here only by the sensor model (:mod:`gaitshift.si
 (:meth:`Sensing.actuate`). Per tick::
 
     readings = sensors(plant)                         IMU, encoders, driver velocity, sole forces
-    x_hat    = estimator.step(readings)               StateEstimator (inekf-flat by default)
+    x_hat    = estimator.step(readings, planned)      StateEstimator (inekf by default); planned: the plan's
+                                                      contact flags at this tick (the fused contact)
     x_ctrl   = x_hat  (estimated)  |  x_true (oracle) one state for controller, re-planner and step feedback
     x_ctrl   = predict(x_ctrl, pending commands)      latency compensation (gaitshift.sim.latency)
     ctrl_data.qpos, qvel = x_ctrl; mj_forward         the controller's OWN MjData (contacts off)
@@ -194,20 +195,23 @@ class Sensing:
         if self.has_imu:
             self.sensors.latch(d)
 
-    def observe(self, k: int, d: Any, truth: FootContacts) -> ControllerView:
-        """Tick ``k``: read the sensors of the plant ``d`` (after ``mj_forward``), estimate, choose the
-        controller's state, predict it over the latency and fill the controller's ``MjData``."""
+    def observe(self, k: int, d: Any, truth: FootContacts, planned: np.ndarray | None = None) -> ControllerView:
+        """Tick ``k``: read the sensors of the plant ``d`` (after ``mj_forward``), estimate (with the plan's
+        contact flags ``planned`` (2,), the controller's own schedule), choose the controller's state,
+        predict it over the latency and fill the controller's ``MjData``."""
         if not self.has_imu:
             return self._truth_view(d, truth)
         if k == 0:  # the known start state (at rest, both feet down): the estimator was reset to it
             q_est, v_est = self.qpos0, np.zeros(self.plant.model.nv)
             touch_est, slip_est, com, com_vel, cost = np.ones(2, bool), np.zeros(2, bool), None, None, 0.0
+            fused = touch_est
         else:
             r = self.sensors.read(d)
             t0 = time.perf_counter()
-            s = self.estimator.step(r.imu, r.joints, r.forces)
+            s = self.estimator.step(r.imu, r.joints, r.forces, planned)
             cost = 1e6 * (time.perf_counter() - t0)
-            q_est, v_est, touch_est, slip_est, com, com_vel = s.qpos(), s.qvel(), s.contact, s.slip, s.com, s.com_vel
+            q_est, v_est, touch_est, slip_est, com, com_vel = s.qpos(), s.qvel(), s.stance, s.slip, s.com, s.com_vel
+            fused = s.contact
         if self.oracle:
             q, v, touching = d.qpos.copy(), d.qvel.copy(), truth.touching
             slip = self._true_slip.update(self.plant.model, d, truth.touching)
@@ -220,7 +224,7 @@ class Sensing:
         mujoco.mj_subtreeVel(self.cmodel, c)
         if com is None:  # tick 0: the start state, which the controller's data holds
             com, com_vel = c.subtree_com[0].copy(), c.subtree_linvel[0].copy()
-        self.log.record(q_est, v_est, touch_est, slip_est, com, com_vel, self.mu, cost)
+        self.log.record(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
         return ControllerView(data=c, touching=np.asarray(touching, bool), slip=np.asarray(slip, bool))
 
     def _truth_view(self, d: Any, truth: FootContacts) -> ControllerView:
@@ -259,17 +263,18 @@ class Sensing:
 
 class EstimationLog:
     """Per tick: the estimator's output (used by the controller or not), prefixed ``est_`` in the run's arrays:
-    ``est_qpos`` (nq), ``est_qvel`` (nv), ``est_contact``, ``est_slip`` (2, bool), ``est_com``,
+    ``est_qpos`` (nq), ``est_qvel`` (nv), ``est_contact`` (the fused contact), ``est_stance`` (the
+    force-confirmed stance the controller's scheduler gets), ``est_slip`` (2, bool), ``est_com``,
     ``est_com_vel`` (3), ``est_mu`` (friction assumed), ``est_tick_us`` (estimator cost, µs; 0 at
     tick 0, the known start state)."""
 
     def __init__(self) -> None:
         self.rows: dict[str, list[Any]] = {
-            k: [] for k in ("qpos", "qvel", "contact", "slip", "com", "com_vel", "mu", "tick_us")
+            k: [] for k in ("qpos", "qvel", "contact", "stance", "slip", "com", "com_vel", "mu", "tick_us")
         }
 
     def record(self, *values: Any) -> None:
-        """One row: qpos, qvel, contact, slip, com, com_vel, mu, tick_us."""
+        """One row: qpos, qvel, contact, stance, slip, com, com_vel, mu, tick_us."""
         row = dict(zip(self.rows, values, strict=True))
         for key, v in row.items():
             self.rows[key].append(np.array(v, copy=True))

@@ -2,18 +2,26 @@
 
 Per tick (period ``dt``)::
 
-    contact  = ContactDetector(forces)                    hysteresis + debounce on the sole forces
+    stance   = ContactDetector(forces)                    hysteresis + debounce on the sole forces
     q, qd    = JointVelocityFilter(encoders, driver qd)   steady-state Kalman filter per joint
     kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
-    R, p, v  = filter.step(imu, kin.feet, contact, dt)    "inekf" (default) or "leg-odometry"
+    R, p, v  = filter.step(imu, kin.feet, stance, dt)     "inekf" (default) or "leg-odometry"
     x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
-    slip_i   = contact_i and |LP(v_w,i)|_xy > slip_speed   a stance sole that moves: lower the friction
+    slip_i   = stance_i and |LP(v_w,i)|_xy > slip_speed    a stance sole that moves: lower the friction
+    contact  = ContactFusion(forces, z_low, vz, planned)  force, sole height and plan fused (contact_fusion.py)
 
 ``LP`` is a first-order low-pass (time constant ``slip_tau``) on the sole's velocity vector, reset in
 swing: zero-mean noise of the joint velocities averages out, a sustained slide does not. A sole that
 slips is no contact for the filter at the next tick (its kinematics would drag the base estimate);
 if both soles exceed the threshold, only the faster one slips: a sliding sole biases the estimated
 base velocity, which makes the still sole look as if it moved.
+
+Two contact flags. ``stance`` (the force trigger alone) is what the base filter, the slip test and,
+in the loop, the foot scheduler's touchdown events use: a sole the filter pins, or the controller
+loads, must carry a clear force (a lightly loaded sole can slide). ``contact`` is the estimate of
+"the sole touches the floor": force, the sole's lowest point ``z_low`` and vertical speed ``vz`` from
+this tick's estimate, and the plan's contact flags ``planned`` when the caller gives them, fused
+(:mod:`gaitshift.control.estimation.contact_fusion`).
 
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
@@ -24,13 +32,15 @@ cost"); the returned ``slip`` flags are shared read-only arrays, every other ret
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import mujoco
 import numpy as np
 
 from gaitshift.control.estimation.calibration import GyroCalibration
-from gaitshift.control.estimation.contact import ContactDetector
+from gaitshift.control.estimation.contact import ON_SIGMAS, ContactDetector
+from gaitshift.control.estimation.contact_fusion import ContactFusion
 from gaitshift.control.estimation.filters import DEFAULT_FILTER, make_filter
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_model
@@ -66,6 +76,8 @@ class StateEstimator:
         slip_speed: horizontal stance-sole speed above which the sole slips, m/s.
         slip_tau: time constant of the low-pass on the sole velocity before that test, s.
         gravity: g, m/s^2.
+        sole_points: per sole, its contact points (n, 3) in the sole-site frame, m (the lowest of them
+            gives the sole's height for the fused contact); None: the sole centre alone.
     """
 
     def __init__(
@@ -85,6 +97,7 @@ class StateEstimator:
         slip_speed: float = 0.2,
         slip_tau: float = 0.03,
         gravity: float = 9.81,
+        sole_points: tuple[np.ndarray, np.ndarray] | None = None,
     ):
         if not dt > 0:
             raise InputError("estimator.dt", dt, "a period > 0 s")
@@ -99,11 +112,18 @@ class StateEstimator:
         self.contact = ContactDetector(
             self.kinematics.mass * gravity, contact_on, contact_off, debounce, contact_window
         )
+        c = self.contact
+        force_std = max(c.on_force / ON_SIGMAS, 1e-9) * math.sqrt(c.window)  # one sample (noise_thresholds)
+        self.fusion = ContactFusion(c.on_force, c.off_force, force_std, c.window)
+        pts = sole_points if sole_points is not None else (np.zeros((1, 3)), np.zeros((1, 3)))
+        left, right = (np.asarray(p, float).reshape(-1, 3) for p in pts)
+        most = max(len(left), len(right))  # pad the shorter set with its first point (the min is unchanged)
+        self._sole_points = np.stack([np.vstack([p, np.repeat(p[:1], most - len(p), axis=0)]) for p in (left, right)])
         n = self.kinematics.n_joints
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
         self.filter = make_filter(filter, t, gravity)
-        self.kinematics.with_rot = self.filter.uses_sole_rot
+        self.kinematics.with_rot = True  # the fused contact's lowest sole points need the soles' orientations
         self._axes_are_base = self.kinematics.imu_axes_are_base
         self.slip_speed2 = float(slip_speed) ** 2
         self._slip_alpha = float(1.0 - np.exp(-dt / slip_tau))
@@ -120,8 +140,9 @@ class StateEstimator:
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
         """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model without geoms,
-        :func:`~gaitshift.control.estimation.kinematics.kinematic_model`, and its sole sites)."""
-        return cls(kinematic_model(robot), dt, sole_sites=robot.SOLE_SITES, **kwargs)
+        :func:`~gaitshift.control.estimation.kinematics.kinematic_model`, its sole sites and points)."""
+        left, right = (np.asarray(s.points) for s in robot.soles)
+        return cls(kinematic_model(robot), dt, sole_sites=robot.SOLE_SITES, sole_points=(left, right), **kwargs)
 
     def reset(
         self,
@@ -147,11 +168,15 @@ class StateEstimator:
         self.filter.reset(rot, pos, vel, gyro_bias)
         self.joints.reset(q, qd)
         self.contact.reset(contact)
+        self.fusion.reset(contact)
         self._slip = (False, False)
         self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)
 
-    def step(self, imu: ImuReading, joints: JointReading, forces: FootForces) -> EstimatedState:
-        """One tick: readings in, the estimated state out (module docstring)."""
+    def step(
+        self, imu: ImuReading, joints: JointReading, forces: FootForces, planned: np.ndarray | None = None
+    ) -> EstimatedState:
+        """One tick: readings in, the estimated state out (module docstring); ``planned`` (2,) bool: the
+        contact flags of the controller's plan at this tick (None: the contact flags ignore the plan)."""
         contact = self.contact.update(forces)
         q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
@@ -178,6 +203,9 @@ class StateEstimator:
             slip_l, slip_r = speed_l >= speed_r, speed_r > speed_l
         self._slip = (slip_l, slip_r)
         slip = self._slip_flags[self._slip]
+        z_soles = y[0:2].dot(rot[2])  # the soles' world heights, less the base's
+        z_soles += base.pos[2]
+        fused = self.fusion.update(forces.normal, self._lowest(rot[2], z_soles, kin.feet.rot), v_w[0:2, 2], planned)
         if self._axes_are_base:
             mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
             omega_w = rot.dot(base.omega)
@@ -185,5 +213,26 @@ class StateEstimator:
             mujoco.mju_mat2Quat(self._quat, rot.dot(kin.base_rot).reshape(9))
             omega_w = rot.dot(base.omega + kin.base_omega)
         return new_estimated_state(
-            x_w[1], self._quat.copy(), v_w[3], omega_w, q, qd, contact, slip, v_w[0:2], x_w[0], v_w[2], base.cov_trace
+            x_w[1],
+            self._quat.copy(),
+            v_w[3],
+            omega_w,
+            q,
+            qd,
+            fused,
+            contact,
+            slip,
+            v_w[0:2],
+            x_w[0],
+            v_w[2],
+            base.cov_trace,
         )
+
+    def _lowest(self, up: np.ndarray, z_soles: np.ndarray, sole_rot: np.ndarray) -> np.ndarray:
+        """World height (2,) of each sole's lowest contact point: ``z_s + min_j (R_s^T R^T e_z) . p_j``
+        (``up`` = ``R^T e_z``, the world vertical in the IMU frame; ``z_soles`` (2,) the sole centres' world
+        heights, m; ``sole_rot`` (2, 3, 3) in the IMU frame)."""
+        u = up.dot(sole_rot)  # (2, 3): the world vertical in each sole frame
+        low: np.ndarray = np.matmul(self._sole_points, u[:, :, None]).min(axis=1)[:, 0]
+        low += z_soles
+        return low

@@ -141,7 +141,10 @@ class EstimatedState:
         base_vel: (3,) base origin linear velocity, world frame, m/s.
         base_omega: (3,) base angular velocity, world frame, rad/s.
         q, qd: (nj,) filtered joint positions, rad, and velocities, rad/s.
-        contact: (2,) bool, [left, right] sole in stance (force-based, with hysteresis).
+        contact: (2,) bool, [left, right] sole in contact: force, sole height and speed, and the plan
+            fused (:mod:`gaitshift.control.estimation.contact_fusion`).
+        stance: (2,) bool, sole carrying a clear load: the force trigger alone (hysteresis), the flags
+            the base filter uses.
         slip: (2,) bool, stance sole moving faster than the slip threshold.
         foot_vel: (2, 3) estimated world velocity of each sole centre, m/s.
         com: (3,) whole-body centre of mass, m.
@@ -157,6 +160,7 @@ class EstimatedState:
     q: np.ndarray
     qd: np.ndarray
     contact: np.ndarray
+    stance: np.ndarray
     slip: np.ndarray
     foot_vel: np.ndarray
     com: np.ndarray
@@ -183,7 +187,20 @@ def _slot_setters(cls: type, names: tuple[str, ...]) -> tuple[Any, ...]:
 _BASE = _slot_setters(BaseState, ("rot", "pos", "vel", "omega", "gyro_bias", "accel_bias", "cov_trace"))
 _EST = _slot_setters(
     EstimatedState,
-    ("base_pos", "base_quat", "base_vel", "base_omega", "q", "qd", "contact", "slip", "foot_vel", "com", "com_vel"),
+    (
+        "base_pos",
+        "base_quat",
+        "base_vel",
+        "base_omega",
+        "q",
+        "qd",
+        "contact",
+        "stance",
+        "slip",
+        "foot_vel",
+        "com",
+        "com_vel",
+    ),
 )
 _EST_TRACE = EstimatedState.__dict__["cov_trace"].__set__
 
@@ -213,6 +230,7 @@ def new_estimated_state(
     q: np.ndarray,
     qd: np.ndarray,
     contact: np.ndarray,
+    stance: np.ndarray,
     slip: np.ndarray,
     foot_vel: np.ndarray,
     com: np.ndarray,
@@ -223,6 +241,7 @@ def new_estimated_state(
     out = _new(EstimatedState)
     s = _EST
     s[0](out, base_pos), s[1](out, base_quat), s[2](out, base_vel), s[3](out, base_omega), s[4](out, q)
-    s[5](out, qd), s[6](out, contact), s[7](out, slip), s[8](out, foot_vel), s[9](out, com), s[10](out, com_vel)
+    s[5](out, qd), s[6](out, contact), s[7](out, stance), s[8](out, slip), s[9](out, foot_vel), s[10](out, com)
+    s[11](out, com_vel)
     _EST_TRACE(out, cov_trace)
     return out

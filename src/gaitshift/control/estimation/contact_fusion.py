@@ -1,0 +1,126 @@
+"""Foot contact fused from the sole force, the sole's height and speed from the estimate, and the plan.
+
+The truth a contact estimate is scored against is "the sole carries a nonzero normal force", and a
+force signal with noise ``s`` (std per sample) cannot tell a sole carrying ``< 2 s`` from an unloaded
+one: at touch-down (a swing sole that grazes the floor before its planned touch-down), before lift-off
+(a sole rolling onto its toe) and while standing on one leg with the other sole resting on the floor.
+Following the fusion of gait phase, foot height and force of Bledt et al. (IROS 2018, "Contact model
+fusion for event-based locomotion") and the probabilistic contact of Camurri et al. (RA-L 2017), each
+sole's flag ``c_i`` combines, per tick:
+
+* the force ``f_i`` (latest sample) and its mean ``fbar_i`` over the last ``window`` samples;
+* ``planned_i``: the contact flag of the controller's own plan at this tick (the schedule it
+  commands, never the simulator's);
+* the height ``dz_i = z_i - z_g`` of the sole's lowest contact point above the ground level ``z_g``,
+  both from the estimate (``z = p_z + e_z . R (y + R_s p_j)`` over the sole's contact points ``p_j``);
+  ``z_g`` is the lowest-point height of the last sole that was on with a confident force
+  (``f > on``), so errors common to both soles (the unobservable drift of the base height) cancel;
+* ``vz_i``: the sole centre's estimated vertical speed.
+
+The rules (a Schmitt trigger on the force whose switching depends on the other cues)::
+
+    rest_i = |dz_i| < near and |vz_i| < still                            the sole rests at the ground level
+    off -> on  if fbar_i > on  or  (planned_i and rest_i)  or  (|dz_i| < near and S_i > cusum_h)
+    on -> off  if g_i < off  and not rest_i,   g_i = fbar_i if planned_i else min(fbar_i, f_i)
+    S_i = max(0, S_i + (d / s^2) (f_i - d / 2)),  d = cusum_shift s       (reset when on or not near)
+
+``S_i`` is Page's CUSUM, the log-likelihood ratio of a force of mean ``d`` against zero mean (white
+Gaussian noise of std ``s``): a small sustained load on a sole at floor level (a graze) is detected
+after ``~ 2 cusum_h / (d / s)^2`` ticks, while a sole higher than ``near`` never switches on without
+the plain threshold. In the plan's swing, a sole whose latest force sample is already below ``off``
+is released at once (a running lift-off unloads the sole in one tick; the mean lags one tick).
+A sole that is on stays on while it rests at the ground level (a graze found by the CUSUM, a sole
+unloaded before its lift-off); one that is off needs the plan's stance to switch on from rest alone.
+Without a plan (``planned=None``) the plan's rest and swing rules are off.
+
+The height cue only adds contact where the force is ambiguous: a sole far from the ground level
+(a stair, a ramp, a drifting height) falls back to the force trigger alone.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from gaitshift.errors import InputError
+
+#: |dz| below this is "at the ground level", m: ~3 std of the relative height of two soles in the
+#: estimate (0.23 mm with typical sensors on g1-walk-run-walk; docs/estimation.md)
+NEAR_HEIGHT = 0.8e-3
+#: |vz| below this is a resting sole, m/s
+STILL_SPEED = 0.05
+#: CUSUM target shift in std of one force sample, and its decision threshold (log-likelihood ratio)
+CUSUM_SHIFT, CUSUM_THRESHOLD = 0.7, 2.0
+
+
+class ContactFusion:
+    """Stance flags of the two soles from force, plan, sole height and speed (module docstring).
+
+    Args:
+        on_force, off_force: switch-on / switch-off thresholds of the mean force, N (``off < on``).
+        force_std: std of one force sample, N (> 0).
+        window: samples of the mean force (>= 1).
+        near: height band of the ground level, m; still: vertical speed of a resting sole, m/s.
+    """
+
+    def __init__(
+        self,
+        on_force: float,
+        off_force: float,
+        force_std: float,
+        window: int = 1,
+        near: float = NEAR_HEIGHT,
+        still: float = STILL_SPEED,
+    ):
+        if not 0.0 <= off_force < on_force:
+            raise InputError("contact.off_force", off_force, f"0 <= off_force < on_force = {on_force}")
+        if not (math.isfinite(force_std) and force_std > 0):
+            raise InputError("contact.force_std", force_std, "a force noise std > 0 N")
+        if int(window) != window or window < 1:
+            raise InputError("contact.window", window, "an integer >= 1 (samples)")
+        self.on_force, self.off_force, self.window = float(on_force), float(off_force), int(window)
+        self.near, self.still = float(near), float(still)
+        d = CUSUM_SHIFT * force_std
+        self._gain, self._half = d / force_std**2, d / 2.0
+        self.reset()
+
+    def reset(self, contact: tuple[bool, bool] | np.ndarray = (False, False)) -> None:
+        """Set the flags (2,); forget the force means, the CUSUMs and the ground level."""
+        self._state = [bool(contact[0]), bool(contact[1])]
+        self._recent: list[list[float]] = [[], []]
+        self._cusum = [0.0, 0.0]
+        self.ground: float | None = None
+
+    def update(
+        self, force: np.ndarray, height: np.ndarray, vz: np.ndarray, planned: np.ndarray | None = None
+    ) -> np.ndarray:
+        """One tick: normal forces (2,) N, lowest-point heights (2,) m and vertical speeds (2,) m/s of
+        the soles (estimate, world frame), the plan's contact flags (2,) or None; the flags (2,) bool."""
+        state, ground, near_band, still = self._state, self.ground, self.near, self.still
+        forces, heights = force.tolist(), height.tolist()
+        for i, v in enumerate(vz.tolist()):
+            f, recent = forces[i], self._recent[i]
+            recent.append(f)
+            if len(recent) > self.window:
+                del recent[0]
+            mean = sum(recent) / len(recent)
+            near = ground is not None and abs(heights[i] - ground) < near_band
+            plan = planned is None or bool(planned[i])
+            rest = near and -still < v < still
+            if state[i]:
+                low = mean if plan else min(mean, f)
+                state[i] = low >= self.off_force or (rest and planned is not None)
+                self._cusum[i] = 0.0
+            elif near:
+                s = max(0.0, self._cusum[i] + self._gain * (f - self._half))
+                state[i] = mean > self.on_force or (rest and plan and planned is not None) or s > CUSUM_THRESHOLD
+                self._cusum[i] = 0.0 if state[i] else s
+            else:
+                state[i] = mean > self.on_force
+                self._cusum[i] = 0.0
+        on = self.on_force
+        left, right = state[0] and forces[0] > on, state[1] and forces[1] > on
+        if left or right:
+            self.ground = (heights[0] + heights[1]) / 2 if left and right else heights[0 if left else 1]
+        return np.array(state)

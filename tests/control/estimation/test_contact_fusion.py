@@ -1,0 +1,112 @@
+"""Fused contact: without a plan and away from the ground level it is the force trigger; a sole that
+rests at the ground level stays on through a force below the noise, and is released once it rises or
+moves; an off sole resting at the ground switches on in the plan's stance only; a small sustained
+load on a sole at the ground level is found by the CUSUM within its expected delay while pure noise
+there rarely switches it on, and the same load above the ground band is left to the force trigger; in
+the plan's swing the latest sample releases the sole at once; bad settings raise InputError."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gaitshift.control.estimation.contact_fusion import CUSUM_SHIFT, CUSUM_THRESHOLD, ContactFusion
+from gaitshift.errors import InputError
+
+WEIGHT = 330.0  # N, the G1
+STD = 0.02 * WEIGHT  # force noise of one sample, N
+ON, OFF = 4.0 * STD, 1.5 * STD
+GROUND, HIGH = 0.0, 0.005  # m: the ground level, a sole 5 mm above it
+TRUE, FALSE = np.array([True, True]), np.array([False, False])
+
+
+def _fusion() -> ContactFusion:
+    det = ContactFusion(ON, OFF, STD, window=1)
+    det.reset((True, True))
+    det.update(np.full(2, WEIGHT / 2), np.full(2, GROUND), np.zeros(2), TRUE)  # learns the ground level
+    return det
+
+
+def _run(det: ContactFusion, left: np.ndarray, z: float, planned: np.ndarray | None, vz: float = 0.0) -> np.ndarray:
+    """Feed the left sole ``left`` (N per tick) at height z, the right sole loaded at the ground."""
+    out = []
+    for f in left:
+        flags = det.update(np.array([f, WEIGHT / 2]), np.array([z, GROUND]), np.array([vz, 0.0]), planned)
+        out.append(bool(flags[0]))
+    return np.array(out)
+
+
+def _trigger(forces: np.ndarray, state: bool) -> np.ndarray:
+    """The plain force trigger (window 1)."""
+    out = []
+    for f in forces:
+        state = f > OFF if state else f > ON
+        out.append(state)
+    return np.array(out)
+
+
+def test_without_plan_and_off_the_ground_it_is_the_force_trigger():
+    rng = np.random.default_rng(1)
+    forces = np.clip(np.sin(np.linspace(0, 12, 600)), 0, None) * WEIGHT + rng.normal(0, STD, 600)
+    assert np.array_equal(_run(_fusion(), forces, HIGH, None), _trigger(forces, True))
+
+
+def test_a_resting_sole_stays_on_below_the_noise_and_is_released_when_it_rises():
+    rng = np.random.default_rng(2)
+    light = 0.005 * WEIGHT + rng.normal(0, STD, 300)  # 1.6 N: below what the force can tell
+    assert _run(_fusion(), light, GROUND, TRUE).all()  # the plan's stance, resting
+    assert _run(_fusion(), light, GROUND, FALSE).all()  # on and resting: kept in the plan's swing too
+    raised = _run(_fusion(), light, HIGH, TRUE)  # 5 mm above the ground level
+    assert not raised[5:].any()
+    moving = _run(_fusion(), light, GROUND, TRUE, vz=0.3)  # not resting: the force (and its CUSUM) decide
+    assert not moving[0] and moving.mean() < 0.2
+    unplanned = _fusion()
+    _run(unplanned, np.zeros(3), HIGH, FALSE)  # off, in swing
+    assert _run(unplanned, np.zeros(1), GROUND, TRUE)[0]  # resting at the ground in the plan's stance: on
+    swing = _fusion()
+    _run(swing, np.zeros(3), HIGH, FALSE)
+    assert not _run(swing, np.zeros(1), GROUND, FALSE)[0]  # the same in the plan's swing: the force decides
+
+
+def test_a_graze_at_the_ground_level_is_found_and_noise_is_not():
+    rng = np.random.default_rng(3)
+    det = _fusion()
+    _run(det, np.zeros(3), HIGH, FALSE)  # off, in swing
+    graze = 1.0 * STD + rng.normal(0, STD, 200)  # 6.6 N sustained: below the on threshold (26 N)
+    flags = _run(det, graze, GROUND, FALSE)
+    first = int(np.argmax(flags))
+    d = CUSUM_SHIFT  # expected delay ~ h / (d (mu - d / 2)) in units of sigma: 2 / 0.45 = 4.4 ticks
+    assert flags.any() and first <= 4 * CUSUM_THRESHOLD / (d * (1.0 - d / 2))
+    high = _fusion()
+    _run(high, np.zeros(3), HIGH, FALSE)
+    assert np.array_equal(_run(high, graze, HIGH, FALSE), _trigger(graze, False))  # the force trigger alone
+    noise = _fusion()
+    _run(noise, np.zeros(3), HIGH, FALSE)
+    ons = 0
+    for f in rng.normal(0, STD, 4000):  # an unloaded sole at the ground level, switched back off by hand
+        if _run(noise, np.array([f]), GROUND, FALSE, vz=0.3)[0]:
+            ons += 1
+            _run(noise, np.zeros(1), HIGH, FALSE)
+    assert ons / 4000 < 0.05  # Page's CUSUM, h = 2, d = 0.7 s: one false alarm per ~50 ticks at the ground
+
+
+def test_the_plans_swing_releases_on_the_latest_sample():
+    det = ContactFusion(ON, OFF, STD, window=2)
+    det.reset((True, True))
+    loaded = np.array([1.5 * WEIGHT, 0.0])
+    assert list(_run(det, loaded, HIGH, FALSE)) == [True, False]  # the mean (0.75 W) lags; the sample does not
+    det.reset((True, True))
+    assert list(_run(det, loaded, HIGH, TRUE)) == [True, True]  # in the plan's stance the mean decides
+
+
+@pytest.mark.parametrize(
+    ("args", "field"),
+    [
+        ((OFF, ON, STD), "contact.off_force"),
+        ((ON, OFF, 0.0), "contact.force_std"),
+        ((ON, OFF, STD, 0), "contact.window"),
+    ],
+)
+def test_bad_settings_raise(args, field):
+    with pytest.raises(InputError, match=field):
+        ContactFusion(*args)
