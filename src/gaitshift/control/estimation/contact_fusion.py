@@ -96,31 +96,44 @@ class ContactFusion:
         self, force: np.ndarray, height: np.ndarray, vz: np.ndarray, planned: np.ndarray | None = None
     ) -> np.ndarray:
         """One tick: normal forces (2,) N, lowest-point heights (2,) m and vertical speeds (2,) m/s of
-        the soles (estimate, world frame), the plan's contact flags (2,) or None; the flags (2,) bool."""
-        state, ground, near_band, still = self._state, self.ground, self.near, self.still
-        forces, heights = force.tolist(), height.tolist()
-        for i, v in enumerate(vz.tolist()):
-            f, recent = forces[i], self._recent[i]
-            recent.append(f)
-            if len(recent) > self.window:
-                del recent[0]
-            mean = sum(recent) / len(recent)
-            near = ground is not None and abs(heights[i] - ground) < near_band
-            plan = planned is None or bool(planned[i])
-            rest = near and -still < v < still
-            if state[i]:
-                low = mean if plan else min(mean, f)
-                state[i] = low >= self.off_force or (rest and planned is not None)
-                self._cusum[i] = 0.0
-            elif near:
-                s = max(0.0, self._cusum[i] + self._gain * (f - self._half))
-                state[i] = mean > self.on_force or (rest and plan and planned is not None) or s > CUSUM_THRESHOLD
-                self._cusum[i] = 0.0 if state[i] else s
-            else:
-                state[i] = mean > self.on_force
-                self._cusum[i] = 0.0
+        the soles (estimate, world frame), the plan's contact flags (2,) or None; the flags (2,) bool,
+        a shared read-only array."""
+        forces, heights, speeds = force.tolist(), height.tolist(), vz.tolist()
+        plans = (True, True) if planned is None else planned.tolist()
+        has_plan = planned is not None
+        left = self._sole(0, forces[0], heights[0], speeds[0], plans[0], has_plan)
+        right = self._sole(1, forces[1], heights[1], speeds[1], plans[1], has_plan)
         on = self.on_force
-        left, right = state[0] and forces[0] > on, state[1] and forces[1] > on
-        if left or right:
-            self.ground = (heights[0] + heights[1]) / 2 if left and right else heights[0 if left else 1]
-        return np.array(state)
+        loaded_l, loaded_r = left and forces[0] > on, right and forces[1] > on
+        if loaded_l or loaded_r:
+            self.ground = (heights[0] + heights[1]) / 2 if loaded_l and loaded_r else heights[0 if loaded_l else 1]
+        return _FLAGS[left, right]
+
+    def _sole(self, i: int, f: float, height: float, v: float, plan: bool, has_plan: bool) -> bool:
+        """The rules of the module docstring for sole ``i``: its new flag."""
+        recent = self._recent[i]
+        recent.append(f)
+        if len(recent) > self.window:
+            del recent[0]
+        mean = sum(recent) / len(recent)
+        ground = self.ground
+        near = ground is not None and abs(height - ground) < self.near
+        rest = near and -self.still < v < self.still
+        if self._state[i]:
+            on = (mean if plan else min(mean, f)) >= self.off_force or (rest and has_plan)
+            self._cusum[i] = 0.0
+        elif near:
+            s = max(0.0, self._cusum[i] + self._gain * (f - self._half))
+            on = mean > self.on_force or (rest and plan and has_plan) or s > CUSUM_THRESHOLD
+            self._cusum[i] = 0.0 if on else s
+        else:
+            on = mean > self.on_force
+            self._cusum[i] = 0.0
+        self._state[i] = on
+        return on
+
+
+#: the four flag pairs, returned read-only (shared between ticks)
+_FLAGS = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
+for _flags in _FLAGS.values():
+    _flags.flags.writeable = False
