@@ -7,13 +7,15 @@ Per tick (period ``dt``)::
     kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
     R, p, v  = filter.step(imu, kin.feet, contact, dt)    "inekf" (default) or "leg-odometry"
     x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
-    slip_i   = contact_i and |LP(v_w,i)|_xy > slip_speed   a stance sole that moves: lower the friction
+    w_i      = R (w_imu + R_S^T (J_rot,i - J_rot,S) qd)    sole angular velocity, world
+    slip_i   = SlipDetector(contact, v_w,i, w_i, R R_i)     the slowest point of the support slides
 
-``LP`` is a first-order low-pass (time constant ``slip_tau``) on the sole's velocity vector, reset in
-swing: zero-mean noise of the joint velocities averages out, a sustained slide does not. A sole that
-slips is no contact for the filter at the next tick (its kinematics would drag the base estimate);
-if both soles exceed the threshold, only the faster one slips: a sliding sole biases the estimated
-base velocity, which makes the still sole look as if it moved.
+The slip test (:mod:`gaitshift.control.estimation.slip`) low-passes the sole's twist (time constant
+``slip_tau``, reset in swing) and flags a stance sole when the slowest point of its support polygon
+(its contact points, from the robot) moves faster than ``slip_speed`` horizontally: a pivot about the
+toe keeps a support point still, a slide moves every point. A sole whose centre moves (slides or
+pivots: the same low-pass, ``|LP(v_c)|_xy > slip_speed``) is no contact for the filter at the next tick:
+the filter takes the sole centre as a still point, so its kinematics would drag the base estimate.
 
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
@@ -33,6 +35,7 @@ from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
+from gaitshift.control.estimation.slip import SlipDetector
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import EstimatedState, FootForces, ImuReading, JointReading
 from gaitshift.errors import InputError
@@ -54,8 +57,10 @@ class StateEstimator:
         contact_on, contact_off: contact thresholds, fractions of the robot weight.
         debounce: contact debounce, ticks.
         contact_window: samples of the moving average of the sole forces before the trigger.
-        slip_speed: horizontal stance-sole speed above which the sole slips, m/s.
-        slip_tau: time constant of the low-pass on the sole velocity before that test, s.
+        slip_speed: horizontal speed of the slowest support point above which a stance sole slips, m/s.
+        slip_tau: time constant of the low-pass on the sole twist before that test, s.
+        sole_points: (left, right) contact points (n, 3) of each sole in its site frame, relative to
+            the site, m (:attr:`gaitshift.robots.soles.SoleGeometry.points`); None: the sole centre only.
         gravity: g, m/s^2.
     """
 
@@ -75,6 +80,7 @@ class StateEstimator:
         contact_window: int = 1,
         slip_speed: float = 0.2,
         slip_tau: float = 0.03,
+        sole_points: tuple[np.ndarray, np.ndarray] | None = None,
         gravity: float = 9.81,
     ):
         if not dt > 0:
@@ -94,16 +100,19 @@ class StateEstimator:
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
         self.filter = make_filter(filter, t, gravity)
-        self.slip_speed2 = float(slip_speed) ** 2
-        self._slip_alpha = float(1.0 - np.exp(-dt / slip_tau))
-        self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)  # (left x, y, right x, y), m/s
-        self._slip = (False, False)
+        self.slip = SlipDetector(dt, slip_speed, slip_tau, sole_points)
+        self._model = model
+        self._sole_site = tuple(int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, s)) for s in sole_sites)
+        self._imu_site = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, imu_site))
+        self._jacr = np.zeros((3, model.nv))
+        self._omega_rel = np.zeros((2, 3))
         self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
         self._quat = np.empty(4)
 
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
         """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model and sole sites)."""
+        kwargs.setdefault("sole_points", tuple(s.points for s in robot.soles))
         return cls(robot.model(), dt, sole_sites=robot.SOLE_SITES, **kwargs)
 
     def reset(
@@ -130,8 +139,23 @@ class StateEstimator:
         self.filter.reset(rot, pos, vel, gyro_bias)
         self.joints.reset(q, qd)
         self.contact.reset(contact)
-        self._slip = (False, False)
-        self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)
+        self.slip.reset()
+
+    def _sole_omega(self, qd: np.ndarray, stance: tuple[bool, bool]) -> np.ndarray:
+        """(2, 3) angular velocity of each stance sole relative to the IMU, IMU frame, rad/s
+        (``R_S^T (J_rot,sole - J_rot,S) qd`` on the kinematics' MjData, posed by ``compute``); 0 in swing."""
+        m, d, jr, out = self._model, self.kinematics.data, self._jacr, self._omega_rel
+        w_imu = np.zeros(3)
+        if not self.kinematics.imu_on_base:
+            mujoco.mj_jacSite(m, d, None, jr, self._imu_site)
+            w_imu = jr[:, 6:].dot(qd)
+        rot_s = d.site_xmat[self._imu_site].reshape(3, 3)
+        for i in (0, 1):
+            out[i] = 0.0
+            if stance[i]:
+                mujoco.mj_jacSite(m, d, None, jr, self._sole_site[i])
+                out[i] = (jr[:, 6:].dot(qd) - w_imu).dot(rot_s)
+        return out
 
     def step(self, imu: ImuReading, joints: JointReading, forces: FootForces) -> EstimatedState:
         """One tick: readings in, the estimated state out (module docstring)."""
@@ -139,7 +163,8 @@ class StateEstimator:
         q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
         left, right = contact.tolist()
-        stance = self._stance[left and not self._slip[0], right and not self._slip[1]]  # slipping soles drop out
+        moving = self.slip.moving  # soles whose centre moved (slide or pivot) drop out of the filter
+        stance = self._stance[left and not moving[0], right and not moving[1]]
         base = self.filter.step(imu, kin.feet, stance, self.dt)
         rot = base.rot
         rot_t = rot.T
@@ -149,17 +174,8 @@ class StateEstimator:
         x_w += base.pos
         v_w = rel.dot(rot_t)
         v_w += base.vel
-        (vlx, vly, _), (vrx, vry, _) = v_w[0:2].tolist()
-        a, (lx, ly, rx, ry) = self._slip_alpha, self._foot_vel_lp  # low-passed sole velocity, zero in swing
-        lx, ly = (lx + a * (vlx - lx), ly + a * (vly - ly)) if left else (0.0, 0.0)
-        rx, ry = (rx + a * (vrx - rx), ry + a * (vry - ry)) if right else (0.0, 0.0)
-        self._foot_vel_lp = (lx, ly, rx, ry)
-        speed_l, speed_r = lx * lx + ly * ly, rx * rx + ry * ry
-        slip_l, slip_r = left and speed_l > self.slip_speed2, right and speed_r > self.slip_speed2
-        if slip_l and slip_r:  # a slide biases the base velocity, so the still sole looks slow-moving too
-            slip_l, slip_r = speed_l >= speed_r, speed_r > speed_l
-        self._slip = (slip_l, slip_r)
-        slip = np.array(self._slip)
+        omega_soles = (self._sole_omega(qd, (left, right)) + base.omega).dot(rot_t)
+        slip = np.array(self.slip.update((left, right), v_w[0:2], omega_soles, np.matmul(rot, kin.feet.rot)))
         if self.kinematics.imu_axes_are_base:
             mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
             omega_w = rot.dot(base.omega)
