@@ -82,16 +82,3 @@ def test_quadprog_fallback_gives_daqps_answer(monkeypatch: pytest.MonkeyPatch):
     assert solver == "quadprog"
     np.testing.assert_allclose(x, x_daqp, atol=1e-6)
     _check_feasible(x, A, bu, bl)
-
-
-def test_friction_pyramid_is_inscribed_in_the_coulomb_cone() -> None:
-    """The largest tangential/normal ratio each pyramid allows, per direction, lies in [mu cos(pi/m), mu]."""
-
-    from gaitshift.control.qp_terms import FRICTION_FACETS, friction_rows
-
-    mu = 0.45
-    G = friction_rows(3, 1, 0, mu)
-    for ang in np.linspace(0.0, 2.0 * np.pi, 73):
-        g = G[:, :2] @ np.array([np.cos(ang), np.sin(ang)])
-        ratio = float(np.min(-G[g > 1e-12, 2] / g[g > 1e-12]))
-        assert mu * np.cos(np.pi / FRICTION_FACETS) - 1e-12 <= ratio <= mu + 1e-12

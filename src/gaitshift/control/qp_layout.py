@@ -9,7 +9,7 @@ the rows of A in this order (:attr:`QpLayout.rows`):
   motor instead of two one-sided rows). With these two blocks adjacent, their rows are
   ``[M, -Jc^T]`` taken at the dofs (base, actuated): one copy per tick;
 * ``feet``: non-sliding stance soles ``J_foot qdd = -Jdot_foot qd - K_v v_foot`` (6 equalities each);
-* ``friction``: the inscribed octagon of ``|f_t| <= mu f_z`` per point (8k rows, constant);
+* ``friction``: ``|f_x|, |f_y| <= mu f_z`` per point (4k rows, constant);
 * ``cap``: per-foot ``sum f_z <= F_max`` (one row per stance foot).
 
 Only the dynamics, torque and feet rows (and the bounds) change from tick to tick; the friction and
@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gaitshift.control.qp_terms import FRICTION_FACETS, INF, friction_rows
+from gaitshift.control.qp_terms import INF, friction_rows
 
 
 @dataclass
@@ -58,7 +58,7 @@ class QpLayout:
         """The layout of ``stance`` for soles of ``n_points`` contact points each, friction ``mu``."""
         k = sum(n_points[s] for s in stance)
         n, ns = nv + 3 * k, len(stance)
-        sizes = {"dynamics": 6, "torque": nu, "feet": 6 * ns, "friction": FRICTION_FACETS * k, "cap": ns}
+        sizes = {"dynamics": 6, "torque": nu, "feet": 6 * ns, "friction": 4 * k, "cap": ns}
         rows, start = {}, 0
         for name, size in sizes.items():
             rows[name] = slice(start, start + size)

@@ -49,24 +49,15 @@ def yaw_error(yaw: float, quat: np.ndarray, pitch: float = 0.0) -> np.ndarray:
     return e
 
 
-#: facets of the friction pyramid of each point force (a regular polygon inscribed in the cone)
-FRICTION_FACETS = 8
-
-
 def friction_rows(n: int, k: int, col0: int, mu: float) -> np.ndarray:
-    """Rows (m k, n), m = :data:`FRICTION_FACETS`, of the friction pyramids of k point forces stored from
-    column ``col0`` as (f_x, f_y, f_z) triples: G x <= 0. Each pyramid is the regular m-gon inscribed in
-    the Coulomb cone ``|f_t| <= mu f_z`` with vertices on the x and y axes: facet j (normal at angle
-    ``t_j = (2 j + 1) pi / m``) is ``cos t_j f_x + sin t_j f_y <= mu cos(pi / m) f_z``, so no force it
-    allows needs more than ``mu`` (the 4-facet ``|f_x|, |f_y| <= mu f_z`` reached ``sqrt(2) mu``)."""
-    m = FRICTION_FACETS
-    t = (2 * np.arange(m) + 1) * np.pi / m
-    fr = np.zeros((m * k, n))
-    for i in range(k):
-        c0 = col0 + 3 * i
-        fr[m * i : m * i + m, c0] = np.cos(t)
-        fr[m * i : m * i + m, c0 + 1] = np.sin(t)
-        fr[m * i : m * i + m, c0 + 2] = -mu * np.cos(np.pi / m)
+    """Rows (4k, n) of the friction pyramids ``|f_x|, |f_y| <= mu f_z`` of k point forces stored from
+    column ``col0`` as (f_x, f_y, f_z) triples: G x <= 0."""
+    fr = np.zeros((4 * k, n))
+    i = np.arange(k)
+    c0 = col0 + 3 * i
+    for r, (axis, sign) in enumerate(((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))):
+        fr[4 * i + r, c0 + axis] = sign
+        fr[4 * i + r, c0 + 2] = -mu
     return fr
 
 

@@ -21,9 +21,8 @@ daqp (docs/simulation.md, "Controller tick").
 Hard constraints:
     * floating-base rows of (1) (6 equations);
     * non-sliding stance feet: ``J_foot qdd + Jdot_foot qd = -K_v v_foot`` (6 per stance foot);
-    * friction pyramids (an octagon inscribed in ``|f_t| <= mu f_z``, qp_terms.friction_rows) and
-      unilateral ``f_z >= 0`` per point; the CoP of a foot is then inside the convex hull of its points,
-      i.e. inside the sole;
+    * friction pyramids ``|f_x|, |f_y| <= mu f_z`` and unilateral ``f_z >= 0`` per point; the CoP of a
+      foot is then inside the convex hull of its points, i.e. inside the sole;
     * per-foot normal-force cap ``sum f_z <= F_max`` (the touchdown/lift-off force ramp);
     * torque limits ``|tau| <= tau_max``.
 
