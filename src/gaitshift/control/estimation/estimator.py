@@ -7,7 +7,7 @@ Per tick (period ``dt``)::
     kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
     R, p, v  = filter.step(imu, kin.feet, contact, dt)    "inekf" (default) or "leg-odometry"
     x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
-    w_i      = R (w_imu + R_S^T (J_rot,i - J_rot,S) qd)    sole angular velocity, world
+    w_i      = R (w_imu + R_S^T (J_rot,i - J_rot,S) qd)    sole angular velocity, world (low-passed)
     slip_i   = SlipDetector(contact, v_w,i, w_i, R R_i)     the slowest point of the support slides
 
 The slip test (:mod:`gaitshift.control.estimation.slip`) low-passes the sole's twist (time constant
@@ -105,7 +105,7 @@ class StateEstimator:
         self._sole_site = tuple(int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, s)) for s in sole_sites)
         self._imu_site = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, imu_site))
         self._jacr = np.zeros((3, model.nv))
-        self._omega_rel = np.zeros((2, 3))
+        self._tick_rot, self._tick_feet_rot = np.eye(3), np.zeros((2, 3, 3))  # this tick's R and sole rotations
         self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
         self._quat = np.empty(4)
 
@@ -141,21 +141,20 @@ class StateEstimator:
         self.contact.reset(contact)
         self.slip.reset()
 
-    def _sole_omega(self, qd: np.ndarray, stance: tuple[bool, bool]) -> np.ndarray:
-        """(2, 3) angular velocity of each stance sole relative to the IMU, IMU frame, rad/s
-        (``R_S^T (J_rot,sole - J_rot,S) qd`` on the kinematics' MjData, posed by ``compute``); 0 in swing."""
-        m, d, jr, out = self._model, self.kinematics.data, self._jacr, self._omega_rel
-        w_imu = np.zeros(3)
+    def _sole_twist(self, i: int, rates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """World angular velocity (3,) rad/s and rotation (3, 3) of sole ``i`` at this tick, for the rate
+        vector ``rates`` = (IMU rate (3,), joint velocities (nj,)): ``R (w_imu + R_S^T (J_rot,i -
+        J_rot,S) qd)`` on the kinematics' MjData, posed by ``compute`` (the slip test's ``twist``)."""
+        m, d, jr = self._model, self.kinematics.data, self._jacr
+        qd = rates[3:]
+        mujoco.mj_jacSite(m, d, None, jr, self._sole_site[i])
+        w_rel = jr[:, 6:].dot(qd)
         if not self.kinematics.imu_on_base:
             mujoco.mj_jacSite(m, d, None, jr, self._imu_site)
-            w_imu = jr[:, 6:].dot(qd)
+            w_rel -= jr[:, 6:].dot(qd)
         rot_s = d.site_xmat[self._imu_site].reshape(3, 3)
-        for i in (0, 1):
-            out[i] = 0.0
-            if stance[i]:
-                mujoco.mj_jacSite(m, d, None, jr, self._sole_site[i])
-                out[i] = (jr[:, 6:].dot(qd) - w_imu).dot(rot_s)
-        return out
+        rot = self._tick_rot
+        return rot.dot(rates[:3] + w_rel.dot(rot_s)), rot.dot(self._tick_feet_rot[i])
 
     def step(self, imu: ImuReading, joints: JointReading, forces: FootForces) -> EstimatedState:
         """One tick: readings in, the estimated state out (module docstring)."""
@@ -174,8 +173,9 @@ class StateEstimator:
         x_w += base.pos
         v_w = rel.dot(rot_t)
         v_w += base.vel
-        omega_soles = (self._sole_omega(qd, (left, right)) + base.omega).dot(rot_t)
-        slip = np.array(self.slip.update((left, right), v_w[0:2], omega_soles, np.matmul(rot, kin.feet.rot)))
+        self._tick_rot, self._tick_feet_rot = rot, kin.feet.rot
+        rates = np.concatenate((base.omega, qd))
+        slip = np.array(self.slip.update((left, right), v_w[0:2], rates, self._sole_twist))
         if self.kinematics.imu_axes_are_base:
             mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
             omega_w = rot.dot(base.omega)

@@ -32,6 +32,9 @@ there (torsional slip); it is counted as still.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 
 
@@ -58,22 +61,34 @@ def convex_hull_xy(points: np.ndarray) -> np.ndarray:
     return pts[lower[:-1] + upper[:-1]]
 
 
-def distance_to_polygon(u: np.ndarray) -> float:
+def distance_to_polygon(u: Any) -> float:
     """Distance (same unit as ``u``) from the origin to the convex polygon with vertices ``u`` (k, 2) in
-    order (either sense; k = 1 or 2 give a point or a segment): 0 inside."""
-    if len(u) == 1:
-        return float(np.hypot(u[0, 0], u[0, 1]))
-    e = np.roll(u, -1, axis=0) - u
-    cross = e[:, 0] * u[:, 1] - e[:, 1] * u[:, 0]  # e x (0 - u) with a sign flip: same sign on all edges inside
-    if len(u) >= 3 and (np.all(cross > 0) or np.all(cross < 0)):
+    order (either sense; k = 1 or 2 give a point or a segment): 0 inside. Plain floats: k is a handful."""
+    pts = u.tolist() if isinstance(u, np.ndarray) else u
+    k = len(pts)
+    best2, sides = float("inf"), set()
+    for j in range(k):
+        ax, ay = pts[j]
+        bx, by = pts[(j + 1) % k]
+        ex, ey = bx - ax, by - ay
+        cross = ex * ay - ey * ax  # e x (0 - a), sign flipped: one sign on every edge when inside
+        sides.add(cross > 0.0 if cross != 0.0 else None)
+        ee = ex * ex + ey * ey
+        t = 0.0 if ee <= 0.0 else min(1.0, max(0.0, -(ax * ex + ay * ey) / ee))
+        px, py = ax + t * ex, ay + t * ey
+        best2 = min(best2, px * px + py * py)
+    if k >= 3 and len(sides) == 1 and None not in sides:
         return 0.0
-    ee = np.einsum("ij,ij->i", e, e)
-    t = np.clip(-np.einsum("ij,ij->i", u, e) / np.maximum(ee, 1e-300), 0.0, 1.0)
-    return float(np.min(np.hypot(u[:, 0] + t * e[:, 0], u[:, 1] + t * e[:, 1])))
+    return float(best2**0.5)
 
 
 class SlipDetector:
     """Slip flags of the two soles from their world twists (module docstring, eqs. (1)-(3)).
+
+    The angular velocity of a sole is linear in a rate vector (for the estimator: the IMU rate and the
+    joint velocities), ``w = W rates`` with ``W`` (the rotation and the Jacobian) varying little over
+    ``tau``; the detector low-passes the rates (per sole, reset in swing) and asks for ``LP(w) = W
+    LP(rates)`` only when the centre test fires, so most ticks cost two low-pass updates.
 
     Args:
         dt: tick period, s.
@@ -98,41 +113,49 @@ class SlipDetector:
 
     def reset(self) -> None:
         """Forget the low-passed twists (both soles as in swing) and the flags."""
-        self.vel_lp = np.zeros((2, 3))  # sole-centre velocity, world, m/s
-        self.omega_lp = np.zeros((2, 3))  # sole angular velocity, world, rad/s
-        self.speed = np.zeros(2)  # s of eq. (2), m/s
+        self.vel_lp = [[0.0, 0.0], [0.0, 0.0]]  # sole-centre horizontal velocity, world, m/s
+        self.rates_lp: list[Any] = [0.0, 0.0]  # low-passed rate vectors (0 in swing)
+        self.speed = [0.0, 0.0]  # s of eq. (2), m/s
         self.slip = (False, False)
         self.moving = (False, False)
 
     def update(
-        self, stance: tuple[bool, bool], vel: np.ndarray, omega: np.ndarray, rot: np.ndarray
+        self,
+        stance: tuple[bool, bool],
+        vel: np.ndarray,
+        rates: np.ndarray,
+        twist: Callable[[int, np.ndarray], tuple[np.ndarray, np.ndarray]],
     ) -> tuple[bool, bool]:
-        """One tick: ``stance`` (2,) flags, sole-centre velocities ``vel`` (2, 3) m/s, sole angular
-        velocities ``omega`` (2, 3) rad/s and sole rotations ``rot`` (2, 3, 3) (sole frame -> world)."""
-        a = self.alpha
+        """One tick: ``stance`` (2,) flags, sole-centre velocities ``vel`` (2, 3) m/s, the rate vector
+        ``rates`` (k,) and ``twist(i, LP(rates))`` -> (angular velocity (3,) rad/s, rotation sole -> world
+        (3, 3)) of sole ``i``, called only for a sole whose centre moves."""
+        a, lim = self.alpha, self.slip_speed
         flags = [False, False]
         centre = [0.0, 0.0]
-        for i in (0, 1):
+        for i, (vx, vy, _) in enumerate(vel.tolist()):
+            lp = self.vel_lp[i]
             if not stance[i]:
-                self.vel_lp[i] = 0.0
-                self.omega_lp[i] = 0.0
+                lp[0] = lp[1] = 0.0
+                self.rates_lp[i] = 0.0
                 self.speed[i] = 0.0
                 continue
-            self.vel_lp[i] += a * (vel[i] - self.vel_lp[i])
-            self.omega_lp[i] += a * (omega[i] - self.omega_lp[i])
-            centre[i] = float(np.hypot(self.vel_lp[i, 0], self.vel_lp[i, 1]))
-            if centre[i] <= self.slip_speed:  # the centre lies in the support: s <= |LP(v_c)|_xy
-                self.speed[i] = centre[i]
+            lp[0] += a * (vx - lp[0])
+            lp[1] += a * (vy - lp[1])
+            self.rates_lp[i] = self.rates_lp[i] + a * (rates - self.rates_lp[i])
+            centre[i] = self.speed[i] = (lp[0] * lp[0] + lp[1] * lp[1]) ** 0.5
+            if centre[i] <= lim:  # the centre lies in the support: s <= |LP(v_c)|_xy
                 continue
-            r = self.supports[i] @ rot[i].T  # support vertices relative to the centre, world, m
-            u = self.vel_lp[i, :2] + np.cross(self.omega_lp[i], r)[:, :2]  # eq. (1) at the vertices
+            omega, rot = twist(i, self.rates_lp[i])
+            wx, wy, wz = omega.tolist()
+            r = self.supports[i].dot(rot.T).tolist()  # support vertices relative to the centre, world, m
+            u = [(lp[0] + wy * z - wz * y, lp[1] + wz * x - wx * z) for x, y, z in r]  # eq. (1), horizontal
             self.speed[i] = distance_to_polygon(u)
-            flags[i] = self.speed[i] > self.slip_speed
+            flags[i] = self.speed[i] > lim
         if flags[0] and flags[1]:  # a slide biases the base velocity, so the still sole looks slow-moving too
             flags = [self.speed[0] >= self.speed[1], self.speed[1] > self.speed[0]]
-        self.slip = (bool(flags[0]), bool(flags[1]))
-        moving = [centre[0] > self.slip_speed, centre[1] > self.slip_speed]
+        self.slip = (flags[0], flags[1])
+        moving = [centre[0] > lim, centre[1] > lim]
         if moving[0] and moving[1]:
             moving = [centre[0] >= centre[1], centre[1] > centre[0]]
-        self.moving = (bool(moving[0]), bool(moving[1]))
+        self.moving = (moving[0], moving[1])
         return self.slip
