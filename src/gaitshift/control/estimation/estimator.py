@@ -7,14 +7,16 @@ Per tick (period ``dt``)::
     kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
     R, p, v  = filter.step(imu, kin.feet, stance, dt)     "inekf" (default) or "leg-odometry"
     x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
-    slip_i   = stance_i and |LP(v_w,i)|_xy > slip_speed    a stance sole that moves: lower the friction
+    w_i      = R (w_imu + R_S^T (J_rot,i - J_rot,S) qd)    sole angular velocity, world (low-passed)
+    slip_i   = SlipDetector(stance, v_w,i, w_i, R R_i)      the slowest point of the support slides
     contact  = ContactFusion(forces, z_low, vz, planned)  force, sole height and plan fused (contact_fusion.py)
 
-``LP`` is a first-order low-pass (time constant ``slip_tau``) on the sole's velocity vector, reset in
-swing: zero-mean noise of the joint velocities averages out, a sustained slide does not. A sole that
-slips is no contact for the filter at the next tick (its kinematics would drag the base estimate);
-if both soles exceed the threshold, only the faster one slips: a sliding sole biases the estimated
-base velocity, which makes the still sole look as if it moved.
+The slip test (:mod:`gaitshift.control.estimation.slip`) low-passes the sole's twist (time constant
+``slip_tau``, reset in swing) and flags a stance sole when the slowest point of its support polygon
+(its contact points, from the robot) moves faster than ``slip_speed`` horizontally: a pivot about the
+toe keeps a support point still, a slide moves every point. A sole whose centre moves (slides or
+pivots: the same low-pass, ``|LP(v_c)|_xy > slip_speed``) is no contact for the filter at the next tick:
+the filter takes the sole centre as a still point, so its kinematics would drag the base estimate.
 
 Two contact flags. ``stance`` (the force trigger alone) is what the base filter, the slip test and,
 in the loop, the foot scheduler's touchdown events use: a sole the filter pins, or the controller
@@ -46,6 +48,7 @@ from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_model
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
+from gaitshift.control.estimation.slip import SlipDetector
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import (
     EstimatedState,
@@ -73,11 +76,13 @@ class StateEstimator:
         contact_on, contact_off: contact thresholds, fractions of the robot weight.
         debounce: contact debounce, ticks.
         contact_window: samples of the moving average of the sole forces before the trigger.
-        slip_speed: horizontal stance-sole speed above which the sole slips, m/s.
-        slip_tau: time constant of the low-pass on the sole velocity before that test, s.
+        slip_speed: horizontal speed of the slowest support point above which a stance sole slips, m/s.
+        slip_tau: time constant of the low-pass on the sole twist before that test, s.
         gravity: g, m/s^2.
-        sole_points: per sole, its contact points (n, 3) in the sole-site frame, m (the lowest of them
-            gives the sole's height for the fused contact); None: the sole centre alone.
+        sole_points: per sole, its contact points (n, 3) in the sole-site frame, relative to the site, m
+            (:attr:`gaitshift.robots.soles.SoleGeometry.points`): the lowest of them gives the sole's
+            height for the fused contact, their convex hull its support for the slip test; None: the
+            sole centre alone.
     """
 
     def __init__(
@@ -125,10 +130,12 @@ class StateEstimator:
         self.filter = make_filter(filter, t, gravity)
         self.kinematics.with_rot = True  # the fused contact's lowest sole points need the soles' orientations
         self._axes_are_base = self.kinematics.imu_axes_are_base
-        self.slip_speed2 = float(slip_speed) ** 2
-        self._slip_alpha = float(1.0 - np.exp(-dt / slip_tau))
-        self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)  # (left x, y, right x, y), m/s
-        self._slip = (False, False)
+        self.slip = SlipDetector(dt, slip_speed, slip_tau, sole_points)
+        self._model = model
+        self._sole_site = tuple(int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, s)) for s in sole_sites)
+        self._imu_site = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, imu_site))
+        self._jacr = np.zeros((3, model.nv))
+        self._tick_rot, self._tick_feet_rot = np.eye(3), np.zeros((2, 3, 3))  # this tick's R and sole rotations
         self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
         self._slip_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
         for flags in self._slip_flags.values():
@@ -169,8 +176,22 @@ class StateEstimator:
         self.joints.reset(q, qd)
         self.contact.reset(contact)
         self.fusion.reset(contact)
-        self._slip = (False, False)
-        self._foot_vel_lp = (0.0, 0.0, 0.0, 0.0)
+        self.slip.reset()
+
+    def _sole_twist(self, i: int, rates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """World angular velocity (3,) rad/s and rotation (3, 3) of sole ``i`` at this tick, for the rate
+        vector ``rates`` = (IMU rate (3,), joint velocities (nj,)): ``R (w_imu + R_S^T (J_rot,i -
+        J_rot,S) qd)`` on the kinematics' MjData, posed by ``compute`` (the slip test's ``twist``)."""
+        m, d, jr = self._model, self.kinematics.data, self._jacr
+        qd = rates[3:]
+        mujoco.mj_jacSite(m, d, None, jr, self._sole_site[i])
+        w_rel = jr[:, 6:].dot(qd)
+        if not self.kinematics.imu_on_base:
+            mujoco.mj_jacSite(m, d, None, jr, self._imu_site)
+            w_rel -= jr[:, 6:].dot(qd)
+        rot_s = d.site_xmat[self._imu_site].reshape(3, 3)
+        rot = self._tick_rot
+        return rot.dot(rates[:3] + w_rel.dot(rot_s)), rot.dot(self._tick_feet_rot[i])
 
     def step(
         self, imu: ImuReading, joints: JointReading, forces: FootForces, planned: np.ndarray | None = None
@@ -181,7 +202,8 @@ class StateEstimator:
         q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
         left, right = contact.tolist()
-        stance = self._stance[left and not self._slip[0], right and not self._slip[1]]  # slipping soles drop out
+        moving = self.slip.moving  # soles whose centre moved (slide or pivot) drop out of the filter
+        stance = self._stance[left and not moving[0], right and not moving[1]]
         base = self.filter.step(imu, kin.feet, stance, self.dt)
         rot = base.rot
         rot_t = rot.T
@@ -192,17 +214,9 @@ class StateEstimator:
         x_w += base.pos
         v_w = rel.dot(rot_t)
         v_w += base.vel
-        (vlx, vly, _), (vrx, vry, _) = v_w[0:2].tolist()
-        a, (lx, ly, rx, ry) = self._slip_alpha, self._foot_vel_lp  # low-passed sole velocity, zero in swing
-        lx, ly = (lx + a * (vlx - lx), ly + a * (vly - ly)) if left else (0.0, 0.0)
-        rx, ry = (rx + a * (vrx - rx), ry + a * (vry - ry)) if right else (0.0, 0.0)
-        self._foot_vel_lp = (lx, ly, rx, ry)
-        speed_l, speed_r = lx * lx + ly * ly, rx * rx + ry * ry
-        slip_l, slip_r = left and speed_l > self.slip_speed2, right and speed_r > self.slip_speed2
-        if slip_l and slip_r:  # a slide biases the base velocity, so the still sole looks slow-moving too
-            slip_l, slip_r = speed_l >= speed_r, speed_r > speed_l
-        self._slip = (slip_l, slip_r)
-        slip = self._slip_flags[self._slip]
+        self._tick_rot, self._tick_feet_rot = rot, kin.feet.rot
+        rates = np.concatenate((base.omega, qd))
+        slip = self._slip_flags[self.slip.update((left, right), v_w[0:2], rates, self._sole_twist)]
         z_soles = y[0:2].dot(rot[2])  # the soles' world heights, less the base's
         z_soles += base.pos[2]
         fused = self.fusion.update(forces.normal, self._lowest(rot[2], z_soles, kin.feet.rot), v_w[0:2, 2], planned)

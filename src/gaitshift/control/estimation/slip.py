@@ -1,0 +1,161 @@
+"""Slip of a stance sole: a rigid sole slides only when no point of its support is still.
+
+The sole is rigid. Its world twist (``v_c``, m/s, velocity of the sole centre ``c``; ``w``, rad/s)
+gives every point ``p`` of the sole the velocity (rigid-body kinematics)::
+
+    v(p) = v_c + w x (p - c)                                                    (1)
+
+The test low-passes the twist (first order, time constant ``tau`` s, reset in swing), so zero-mean
+noise of the joint velocities averages out and a sustained motion does not, and evaluates (1) with
+the low-passed twist over the sole's support polygon ``P`` (the convex hull of its contact points,
+read from the model, e.g. the four sphere bottoms of the G1)::
+
+    s = min_{p in P} | LP(v_c) + LP(w) x (p - c) |_xy          (m/s)            (2)
+    slip = stance and s > slip_speed                                            (3)
+
+The horizontal velocity is affine in ``p``, so the image of ``P`` is a convex polygon in the velocity
+plane and ``s`` is the distance from the origin to it: ``s = 0`` when the instantaneous centre of
+rotation lies within the support (a heel swinging about the toe, a sole rolling off its toe edge:
+a pivot, the contact point is still), while a slide moves every point (``s`` is then the speed of the
+slowest one). A sole without a support polygon (one point, its centre) gets the centre test
+``|LP(v_c)|_xy > slip_speed``. If both stance soles exceed the threshold, only the one with the larger
+``s`` slips: a sliding sole biases the estimated base velocity, which makes the still sole look as if
+it moved.
+
+The detector also flags a stance sole whose *centre* moves, ``|LP(v_c)|_xy > slip_speed`` (the same
+rule on the centre alone, the faster sole when both): a pivoting sole is not sliding, but its centre,
+the point the base filter takes as still, is not a still point either (:attr:`SlipDetector.moving`).
+
+What the test cannot see: a sole spinning flat about a point of its support slides everywhere but
+there (torsional slip); it is counted as still.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+
+def convex_hull_xy(points: np.ndarray) -> np.ndarray:
+    """Vertices (k, 3) of the convex hull of ``points`` (n, 3) in their x-y plane, counter-clockwise
+    (Andrew's monotone chain); collinear and repeated points are dropped."""
+    pts = np.asarray(points, float).reshape(-1, 3)
+    order = sorted(range(len(pts)), key=lambda i: (pts[i, 0], pts[i, 1]))
+
+    def half(idx: list[int]) -> list[int]:
+        out: list[int] = []
+        for i in idx:
+            while len(out) >= 2:
+                a, b = pts[out[-2], :2], pts[out[-1], :2]
+                if (b[0] - a[0]) * (pts[i, 1] - a[1]) - (b[1] - a[1]) * (pts[i, 0] - a[0]) > 1e-12:
+                    break
+                out.pop()
+            out.append(i)
+        return out
+
+    if len(pts) <= 2:
+        return pts
+    lower, upper = half(order), half(order[::-1])
+    return pts[lower[:-1] + upper[:-1]]
+
+
+def distance_to_polygon(u: Any) -> float:
+    """Distance (same unit as ``u``) from the origin to the convex polygon with vertices ``u`` (k, 2) in
+    order (either sense; k = 1 or 2 give a point or a segment): 0 inside. Plain floats: k is a handful."""
+    pts = u.tolist() if isinstance(u, np.ndarray) else u
+    k = len(pts)
+    best2, sides = float("inf"), set()
+    for j in range(k):
+        ax, ay = pts[j]
+        bx, by = pts[(j + 1) % k]
+        ex, ey = bx - ax, by - ay
+        cross = ex * ay - ey * ax  # e x (0 - a), sign flipped: one sign on every edge when inside
+        sides.add(cross > 0.0 if cross != 0.0 else None)
+        ee = ex * ex + ey * ey
+        t = 0.0 if ee <= 0.0 else min(1.0, max(0.0, -(ax * ex + ay * ey) / ee))
+        px, py = ax + t * ex, ay + t * ey
+        best2 = min(best2, px * px + py * py)
+    if k >= 3 and len(sides) == 1 and None not in sides:
+        return 0.0
+    return float(best2**0.5)
+
+
+class SlipDetector:
+    """Slip flags of the two soles from their world twists (module docstring, eqs. (1)-(3)).
+
+    The angular velocity of a sole is linear in a rate vector (for the estimator: the IMU rate and the
+    joint velocities), ``w = W rates`` with ``W`` (the rotation and the Jacobian) varying little over
+    ``tau``; the detector low-passes the rates (per sole, reset in swing) and asks for ``LP(w) = W
+    LP(rates)`` only when the centre test fires, so most ticks cost two low-pass updates.
+
+    Args:
+        dt: tick period, s.
+        slip_speed: speed of the slowest support point above which a stance sole slips, m/s.
+        slip_tau: time constant of the low-pass on the twist, s.
+        supports: (left, right) contact points (n, 3) in the sole frame relative to the sole centre,
+            m; None: the centre only.
+    """
+
+    def __init__(
+        self,
+        dt: float,
+        slip_speed: float,
+        slip_tau: float,
+        supports: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> None:
+        self.slip_speed = float(slip_speed)
+        self.alpha = float(1.0 - np.exp(-dt / slip_tau))
+        zero = np.zeros((1, 3))
+        self.supports = tuple(convex_hull_xy(s) for s in supports) if supports is not None else (zero, zero)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the low-passed twists (both soles as in swing) and the flags."""
+        self.vel_lp = [[0.0, 0.0], [0.0, 0.0]]  # sole-centre horizontal velocity, world, m/s
+        self.rates_lp: list[Any] = [0.0, 0.0]  # low-passed rate vectors (0 in swing)
+        self.speed = [0.0, 0.0]  # s of eq. (2), m/s
+        self.slip = (False, False)
+        self.moving = (False, False)
+
+    def update(
+        self,
+        stance: tuple[bool, bool],
+        vel: np.ndarray,
+        rates: np.ndarray,
+        twist: Callable[[int, np.ndarray], tuple[np.ndarray, np.ndarray]],
+    ) -> tuple[bool, bool]:
+        """One tick: ``stance`` (2,) flags, sole-centre velocities ``vel`` (2, 3) m/s, the rate vector
+        ``rates`` (k,) and ``twist(i, LP(rates))`` -> (angular velocity (3,) rad/s, rotation sole -> world
+        (3, 3)) of sole ``i``, called only for a sole whose centre moves."""
+        a, lim = self.alpha, self.slip_speed
+        flags = [False, False]
+        centre = [0.0, 0.0]
+        for i, (vx, vy, _) in enumerate(vel.tolist()):
+            lp = self.vel_lp[i]
+            if not stance[i]:
+                lp[0] = lp[1] = 0.0
+                self.rates_lp[i] = 0.0
+                self.speed[i] = 0.0
+                continue
+            lp[0] += a * (vx - lp[0])
+            lp[1] += a * (vy - lp[1])
+            self.rates_lp[i] = self.rates_lp[i] + a * (rates - self.rates_lp[i])
+            centre[i] = self.speed[i] = (lp[0] * lp[0] + lp[1] * lp[1]) ** 0.5
+            if centre[i] <= lim:  # the centre lies in the support: s <= |LP(v_c)|_xy
+                continue
+            omega, rot = twist(i, self.rates_lp[i])
+            wx, wy, wz = omega.tolist()
+            r = self.supports[i].dot(rot.T).tolist()  # support vertices relative to the centre, world, m
+            u = [(lp[0] + wy * z - wz * y, lp[1] + wz * x - wx * z) for x, y, z in r]  # eq. (1), horizontal
+            self.speed[i] = distance_to_polygon(u)
+            flags[i] = self.speed[i] > lim
+        if flags[0] and flags[1]:  # a slide biases the base velocity, so the still sole looks slow-moving too
+            flags = [self.speed[0] >= self.speed[1], self.speed[1] > self.speed[0]]
+        self.slip = (flags[0], flags[1])
+        moving = [centre[0] > lim, centre[1] > lim]
+        if moving[0] and moving[1]:
+            moving = [centre[0] >= centre[1], centre[1] > centre[0]]
+        self.moving = (moving[0], moving[1])
+        return self.slip
