@@ -145,7 +145,8 @@ class EstimatedState:
             fused (:mod:`gaitshift.control.estimation.contact_fusion`).
         stance: (2,) bool, sole carrying a clear load: the force trigger alone (hysteresis), the flags
             the base filter uses.
-        slip: (2,) bool, stance sole moving faster than the slip threshold.
+        slip: (2,) bool, stance sole sliding: the slowest point of its support moves faster than the
+            slip threshold (:mod:`gaitshift.control.estimation.slip`; a pivot is no slip).
         foot_vel: (2, 3) estimated world velocity of each sole centre, m/s.
         com: (3,) whole-body centre of mass, m.
         com_vel: (3,) its velocity, m/s.
