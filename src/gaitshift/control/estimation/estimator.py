@@ -128,13 +128,8 @@ class StateEstimator:
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
         self.filter = make_filter(filter, t, gravity)
-        self.kinematics.with_rot = True  # the fused contact's lowest sole points need the soles' orientations
         self._axes_are_base = self.kinematics.imu_axes_are_base
         self.slip = SlipDetector(dt, slip_speed, slip_tau, sole_points)
-        self._model = model
-        self._sole_site = tuple(int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, s)) for s in sole_sites)
-        self._imu_site = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, imu_site))
-        self._jacr = np.zeros((3, model.nv))
         self._tick_rot, self._tick_feet_rot = np.eye(3), np.zeros((2, 3, 3))  # this tick's R and sole rotations
         self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
         self._slip_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
@@ -181,17 +176,9 @@ class StateEstimator:
     def _sole_twist(self, i: int, rates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """World angular velocity (3,) rad/s and rotation (3, 3) of sole ``i`` at this tick, for the rate
         vector ``rates`` = (IMU rate (3,), joint velocities (nj,)): ``R (w_imu + R_S^T (J_rot,i -
-        J_rot,S) qd)`` on the kinematics' MjData, posed by ``compute`` (the slip test's ``twist``)."""
-        m, d, jr = self._model, self.kinematics.data, self._jacr
-        qd = rates[3:]
-        mujoco.mj_jacSite(m, d, None, jr, self._sole_site[i])
-        w_rel = jr[:, 6:].dot(qd)
-        if not self.kinematics.imu_on_base:
-            mujoco.mj_jacSite(m, d, None, jr, self._imu_site)
-            w_rel -= jr[:, 6:].dot(qd)
-        rot_s = d.site_xmat[self._imu_site].reshape(3, 3)
+        J_rot,S) qd)`` (:meth:`LegKinematics.sole_rate`; the slip test's ``twist``)."""
         rot = self._tick_rot
-        return rot.dot(rates[:3] + w_rel.dot(rot_s)), rot.dot(self._tick_feet_rot[i])
+        return rot.dot(rates[:3] + self.kinematics.sole_rate(i, rates[3:])), rot.dot(self._tick_feet_rot[i])
 
     def step(
         self, imu: ImuReading, joints: JointReading, forces: FootForces, planned: np.ndarray | None = None

@@ -133,7 +133,6 @@ class InvariantEKF:
     def __init__(self, tuning: FilterTuning | None = None, gravity: float = 9.81, flat_feet: bool = False):
         self.tuning = t = tuning if tuning is not None else FilterTuning()
         self.flat_feet = bool(flat_feet)
-        self.uses_sole_rot = self.flat_feet  # the sole orientations are measured with flat feet only
         self.nx = nx = 27 if self.flat_feet else 21
         self._ib = ib = nx - 6  # first bias index
         self.gravity = np.array([0.0, 0.0, -gravity])

@@ -17,7 +17,7 @@ The simulator's ``MjData`` is never touched.
 
 Per-tick cost (the estimator's hot path, docs/estimation.md "Measured cost"): for an IMU on the base
 with the base's axes the result is the object's own buffers, filled in place (no per-tick objects);
-the soles' orientations are read only when ``with_rot`` (the filter measures them); the CoM Jacobian
+the soles' orientations are read every tick (the fused contact and the slip test use them); the CoM Jacobian
 is that of subtree 0 (the world's) when the robot carries all the mass: the same numbers, and MuJoCo
 computes it in half the time of the root's subtree.
 """
@@ -128,6 +128,7 @@ class LegKinematics:
         self._jac_rows = tuple(self._jac[3 * i : 3 * i + 3] for i in range(3))
         self._qvel = np.zeros(model.nv)
         self._jacr = np.zeros((6, model.nv))  # rotational Jacobians of the soles
+        self._jac_rate = np.zeros((3, model.nv))  # one rotational Jacobian for sole_rate
         self._jacr_rows = (self._jacr[0:3], self._jacr[3:6])
         self._rot_var = np.zeros(2)
         self._site_xpos = self.data.site_xpos  # views into the private MjData (fixed buffers)
@@ -147,8 +148,6 @@ class LegKinematics:
         self._rot_flat = np.zeros((2, 9))
         self._rot = self._rot_flat.reshape(2, 3, 3)
         self._ticks = 0
-        #: fill ``feet.rot`` (the soles' orientations); when False it keeps its last value
-        self.with_rot = True
         self._var = np.zeros(2)
         self.data.qpos[:] = model.qpos0
         self.data.qpos[:7] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)
@@ -195,8 +194,7 @@ class LegKinematics:
         self._ticks += 1
         if refresh:
             self._refresh_variances()
-        if self.with_rot:
-            self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
+        self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
         if self.imu_axes_are_base:
             return self._body
         rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, self._rot)
@@ -211,6 +209,18 @@ class LegKinematics:
             )
         feet = FootKinematics(pos=y[0:2], vel=ydot[0:2], var=self._var, rot=rot, rot_var=self._rot_var)
         return BodyKinematics(feet, y, ydot, base_rot, base_omega)
+
+    def sole_rate(self, i: int, qd: np.ndarray) -> np.ndarray:
+        """Angular velocity (3,) rad/s of sole ``i`` relative to the IMU, in the IMU frame, at the pose of
+        the last :meth:`compute` and joint velocities ``qd`` (nj,): ``R_S^T (J_rot,i - J_rot,S) qd``."""
+        m, d, jr = self.model, self.data, self._jac_rate
+        mujoco.mj_jacSite(m, d, None, jr, self._soles[i])
+        w_rel = jr[:, 6:].dot(qd)
+        if not self.imu_on_base:
+            mujoco.mj_jacSite(m, d, None, jr, self._imu)
+            w_rel -= jr[:, 6:].dot(qd)
+        out: np.ndarray = w_rel.dot(d.site_xmat[self._imu].reshape(3, 3))
+        return out
 
     def _refresh_variances(self) -> None:
         """Encoder-noise variances of the soles' positions and orientations (module docstring); for an

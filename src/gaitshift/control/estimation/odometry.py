@@ -37,8 +37,6 @@ class LegOdometry:
         gravity: g, m/s^2.
     """
 
-    uses_sole_rot = False  # point feet: the sole orientations are not read
-
     def __init__(self, tuning: FilterTuning | None = None, gravity: float = 9.81):
         self.tuning = tuning if tuning is not None else FilterTuning()
         self.gravity = np.array([0.0, 0.0, -gravity])

@@ -110,11 +110,7 @@ class BaseState:
 
 
 class BaseFilter(Protocol):
-    """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``).
-
-    ``uses_sole_rot``: whether ``step`` reads ``feet.rot`` (the kinematics skip it otherwise)."""
-
-    uses_sole_rot: bool
+    """What every floating-base filter provides (``InvariantEKF``, ``LegOdometry``)."""
 
     def reset(
         self, rot: np.ndarray, pos: np.ndarray, vel: np.ndarray | None = None, gyro_bias: GyroCalibration | None = None
