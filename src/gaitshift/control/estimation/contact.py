@@ -91,8 +91,12 @@ class ContactDetector:
 
     def update(self, forces: FootForces) -> np.ndarray:
         """Feed one tick of forces; return the stance flags (2,) bool after this tick."""
+        return np.array(self.update_values(forces.normal.tolist()))
+
+    def update_values(self, normal: list[float]) -> tuple[bool, bool]:
+        """:meth:`update` on the forces as plain floats (2,) N (the estimator's per-tick path); the flags."""
         state, count, n = self._state, self._count, self.window
-        for i, sample in enumerate(forces.normal.tolist()):
+        for i, sample in enumerate(normal):
             f = sample
             if n > 1:
                 recent = self._recent[i]
@@ -105,4 +109,4 @@ class ContactDetector:
             if count[i] >= self.debounce:
                 state[i] = not state[i]
                 count[i] = 0
-        return np.array(state)
+        return state[0], state[1]

@@ -98,7 +98,13 @@ class ContactFusion:
         """One tick: normal forces (2,) N, lowest-point heights (2,) m and vertical speeds (2,) m/s of
         the soles (estimate, world frame), the plan's contact flags (2,) or None; the flags (2,) bool,
         a shared read-only array."""
-        forces, heights, speeds = force.tolist(), height.tolist(), vz.tolist()
+        return self.update_values(force.tolist(), height.tolist(), vz.tolist(), planned)
+
+    def update_values(
+        self, forces: list[float], heights: list[float], speeds: list[float], planned: np.ndarray | None = None
+    ) -> np.ndarray:
+        """:meth:`update` with the forces, heights and speeds as plain floats (2,) each (the estimator's
+        per-tick path)."""
         plans = (True, True) if planned is None else planned.tolist()
         has_plan = planned is not None
         left = self._sole(0, forces[0], heights[0], speeds[0], plans[0], has_plan)

@@ -28,8 +28,11 @@ this tick's estimate, and the plan's contact flags ``planned`` when the caller g
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
 
-Cost: a tick without a correction is about 39 numpy and MuJoCo calls (docs/estimation.md "Measured
-cost"); the returned ``slip`` flags are shared read-only arrays, every other returned array is fresh.
+Cost (docs/estimation.md "Measured cost"): the world positions and velocities of the four points come
+from one product ``[y, 0, 1; dy/dt + w x y, 1, 0] @ [R^T; v; p]`` (LegKinematics.points_aug), the
+filter's mean step without a :class:`BaseState` (``advance``), the forces, heights and speeds reach the
+contact detector, the fused contact and the slip test as plain floats read once. The returned
+``slip``, ``stance`` and ``contact`` flags are shared read-only arrays, every other returned array is fresh.
 """
 
 from __future__ import annotations
@@ -122,8 +125,7 @@ class StateEstimator:
         self.fusion = ContactFusion(c.on_force, c.off_force, force_std, c.window)
         pts = sole_points if sole_points is not None else (np.zeros((1, 3)), np.zeros((1, 3)))
         left, right = (np.asarray(p, float).reshape(-1, 3) for p in pts)
-        most = max(len(left), len(right))  # pad the shorter set with its first point (the min is unchanged)
-        self._sole_points = np.stack([np.vstack([p, np.repeat(p[:1], most - len(p), axis=0)]) for p in (left, right)])
+        self._sole_point_list = [[tuple(p) for p in pts.tolist()] for pts in (left, right)]  # plain floats
         n = self.kinematics.n_joints
         self.joints = JointVelocityFilter(n, dt, t.encoder_std, t.joint_vel_std, t.joint_accel_density)
         self.filter_name = filter
@@ -133,11 +135,14 @@ class StateEstimator:
         self._tick_rot, self._tick_feet_rot = np.eye(3), np.zeros((2, 3, 3))  # this tick's R and sole rotations
         self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
         self._slip_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
-        for flags in self._slip_flags.values():
+        self._stance_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
+        for flags in [*self._slip_flags.values(), *self._stance_flags.values()]:
             flags.flags.writeable = False
+        self._points_aug = self.kinematics.points_aug  # (8, 5): [y, 0, 1; dy/dt + w x y, 1, 0]
+        self._rel = self._points_aug[4:8, 0:3]
+        self._affine = np.zeros((5, 3))
         self._omega_skew9 = np.zeros(9)
         self._omega_skew = self._omega_skew9.reshape(3, 3)
-        self._quat = np.empty(4)
 
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
@@ -185,55 +190,55 @@ class StateEstimator:
     ) -> EstimatedState:
         """One tick: readings in, the estimated state out (module docstring); ``planned`` (2,) bool: the
         contact flags of the controller's plan at this tick (None: the contact flags ignore the plan)."""
-        contact = self.contact.update(forces)
+        normal = forces.normal.tolist()
+        left, right = self.contact.update_values(normal)
         q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
-        left, right = contact.tolist()
         moving = self.slip.moving  # soles whose centre moved (slide or pivot) drop out of the filter
         stance = self._stance[left and not moving[0], right and not moving[1]]
-        base = self.filter.step(imu, kin.feet, stance, self.dt)
-        rot = base.rot
-        rot_t = rot.T
+        rot, vp, omega, cov_trace = self.filter.advance(imu, kin.feet, stance, self.dt)
         y = kin.points
-        np.dot(base.omega, SKEW, out=self._omega_skew9)
-        rel = kin.points_vel - y.dot(self._omega_skew)  # dy/dt + w x y
-        x_w = y[2:4].dot(rot_t)  # CoM and base origin (the soles' positions are not returned)
-        x_w += base.pos
-        v_w = rel.dot(rot_t)
-        v_w += base.vel
+        np.dot(omega, SKEW, self._omega_skew9)
+        np.subtract(kin.points_vel, y.dot(self._omega_skew), self._rel)  # dy/dt + w x y
+        affine = self._affine  # [R^T; v; p]
+        affine[0:3] = rot.T
+        affine[3:5] = vp
+        xv_w = self._points_aug.dot(affine)  # rows 0:4: R y + p, rows 4:8: R (dy/dt + w x y) + v
+        rows = xv_w.tolist()
         self._tick_rot, self._tick_feet_rot = rot, kin.feet.rot
-        rates = np.concatenate((base.omega, qd))
-        slip = self._slip_flags[self.slip.update((left, right), v_w[0:2], rates, self._sole_twist)]
-        z_soles = y[0:2].dot(rot[2])  # the soles' world heights, less the base's
-        z_soles += base.pos[2]
-        fused = self.fusion.update(forces.normal, self._lowest(rot[2], z_soles, kin.feet.rot), v_w[0:2, 2], planned)
+        rates = np.concatenate((omega, qd))
+        slip = self._slip_flags[self.slip.update((left, right), rows[4:6], rates, self._sole_twist)]
+        heights = self._lowest(rot[2].dot(kin.feet.rot).tolist(), rows)
+        fused = self.fusion.update_values(normal, heights, [rows[4][2], rows[5][2]], planned)
+        quat = np.empty(4)
         if self._axes_are_base:
-            mujoco.mju_mat2Quat(self._quat, base.rot.reshape(9))
-            omega_w = rot.dot(base.omega)
+            mujoco.mju_mat2Quat(quat, rot.reshape(9))
+            omega_w = rot.dot(omega)
         else:
-            mujoco.mju_mat2Quat(self._quat, rot.dot(kin.base_rot).reshape(9))
-            omega_w = rot.dot(base.omega + kin.base_omega)
+            mujoco.mju_mat2Quat(quat, rot.dot(kin.base_rot).reshape(9))
+            omega_w = rot.dot(omega + kin.base_omega)
         return new_estimated_state(
-            x_w[1],
-            self._quat.copy(),
-            v_w[3],
+            xv_w[3],
+            quat,
+            xv_w[7],
             omega_w,
             q,
             qd,
             fused,
-            contact,
+            self._stance_flags[left, right],
             slip,
-            v_w[0:2],
-            x_w[0],
-            v_w[2],
-            base.cov_trace,
+            xv_w[4:6],
+            xv_w[2],
+            xv_w[6],
+            cov_trace,
         )
 
-    def _lowest(self, up: np.ndarray, z_soles: np.ndarray, sole_rot: np.ndarray) -> np.ndarray:
+    def _lowest(self, up: list[list[float]], x_w: list[list[float]]) -> list[float]:
         """World height (2,) of each sole's lowest contact point: ``z_s + min_j (R_s^T R^T e_z) . p_j``
-        (``up`` = ``R^T e_z``, the world vertical in the IMU frame; ``z_soles`` (2,) the sole centres' world
-        heights, m; ``sole_rot`` (2, 3, 3) in the IMU frame)."""
-        u = up.dot(sole_rot)  # (2, 3): the world vertical in each sole frame
-        low: np.ndarray = np.matmul(self._sole_points, u[:, :, None]).min(axis=1)[:, 0]
-        low += z_soles
-        return low
+        (``up`` (2, 3) = ``R_s^T R^T e_z``, the world vertical in each sole frame; ``x_w`` the world
+        positions, soles first), in plain floats: a handful of points per sole."""
+        out = []
+        for i in (0, 1):
+            ux, uy, uz = up[i]
+            out.append(min([px * ux + py * uy + pz * uz for px, py, pz in self._sole_point_list[i]]) + x_w[i][2])
+        return out

@@ -244,6 +244,14 @@ class InvariantEKF:
     def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:
         """Propagate the mean with the IMU over ``dt`` s; every ``correct_every`` ticks, propagate the
         covariance over those ticks, correct with the stance feet and add touched-down feet."""
+        rot, vp, omega, trace = self.advance(imu, feet, contact, dt)
+        return new_base_state(rot.copy(), vp[1], vp[0], omega, self._bias_out_g, self._bias_out_a, trace)
+
+    def advance(
+        self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float | None]:
+        """:meth:`step` without the :class:`BaseState`: (rot (3, 3), [vel; pos] (2, 3), omega (3,),
+        cov_trace); ``rot`` is the filter's own array, valid until the next tick (the estimator's path)."""
         if dt != self._dt:
             self._set_dt(dt)
         omega = imu.gyro - self._bias_g
@@ -255,16 +263,7 @@ class InvariantEKF:
         self._ticks += 1
         if self._ticks % self._every == 0:
             self._correction_tick(feet, contact)
-        vp = self._vp + self._offset
-        return new_base_state(
-            self.rot.copy(),
-            vp[1],
-            vp[0],
-            omega,
-            self._bias_out_g,
-            self._bias_out_a,
-            self._cov_trace,
-        )
+        return self.rot, self._vp + self._offset, omega, self._cov_trace
 
     def _correction_tick(self, feet: FootKinematics, contact: np.ndarray) -> None:
         """Covariance over the correction period, recentring, the stance-foot correction and the feet

@@ -17,7 +17,8 @@ The simulator's ``MjData`` is never touched.
 
 Per-tick cost (the estimator's hot path, docs/estimation.md "Measured cost"): for an IMU on the base
 with the base's axes the result is the object's own buffers, filled in place (no per-tick objects);
-the soles' orientations are read every tick (the fused contact and the slip test use them); the CoM Jacobian
+the soles' orientations are a view of the private data's ``site_xmat`` (no copy); the positions are
+subtracted row by row (contiguous 3-vectors: a strided operand is numpy's slow path); the CoM Jacobian
 is that of subtree 0 (the world's) when the robot carries all the mass: the same numbers, and MuJoCo
 computes it in half the time of the root's subtree.
 """
@@ -132,21 +133,26 @@ class LegKinematics:
         self._jacr_rows = (self._jacr[0:3], self._jacr[3:6])
         self._rot_var = np.zeros(2)
         self._site_xpos = self.data.site_xpos  # views into the private MjData (fixed buffers)
-        self._site_xmat = self.data.site_xmat
         # the whole-body CoM: subtree 0 (the world's) when the robot carries all the mass (MuJoCo's
         # mj_jacSubtreeCom is twice as fast there), else the root's
         self._com_body = 0 if model.body_subtreemass[0] == model.body_subtreemass[self._root] else self._root
         self._com_view = self.data.subtree_com[self._com_body]
         self._vel_flat = np.zeros(12)  # the points' velocities (4, 3), and the soles' orientations (2, 3, 3)
         self._vel = self._vel_flat.reshape(4, 3)
-        self._y = np.zeros((4, 3))
-        self._y_soles, self._y_com = self._y[0:2], self._y[2]
-        left, right = self._soles  # the soles' rows of site_xpos as one view
+        #: the points in the IMU frame (rows 0:4, columns 0:3: ``points`` of the result) and rows 4:8 for
+        #: their velocities, with a 1 in column 4 (positions) or 3 (velocities): ``points_aug @ [R^T; v; p]``
+        #: is the world positions and velocities of the points (the estimator fills rows 4:8)
+        self.points_aug = np.zeros((8, 5))
+        self.points_aug[0:4, 4] = self.points_aug[4:8, 3] = 1.0
+        self._y = self.points_aug[0:4, 0:3]
+        # per-row subtractions of contiguous 3-vectors (a strided or broadcast operand is numpy's slow path)
+        self._y_rows = (self._y[0], self._y[1], self._y[2])
+        self._x_rows = (self.data.site_xpos[self._soles[0]], self.data.site_xpos[self._soles[1]])
+        left, right = self._soles  # the soles' orientations (2, 3, 3): a view of their rows of site_xmat
         step, lo = abs(right - left), min(left, right)
-        rows = self.data.site_xpos[lo : lo + step + 1 : step] if step else self.data.site_xpos[lo : lo + 1]
-        self._soles_xpos = rows if left <= right else rows[::-1]
-        self._rot_flat = np.zeros((2, 9))
-        self._rot = self._rot_flat.reshape(2, 3, 3)
+        xmat = self.data.site_xmat
+        rows = xmat[lo : lo + step + 1 : step] if step else np.lib.stride_tricks.as_strided(xmat[lo], (2, 9), (0, 8))
+        self._rot = (rows if left <= right else rows[::-1]).reshape(2, 3, 3)
         self._ticks = 0
         self._var = np.zeros(2)
         self.data.qpos[:] = model.qpos0
@@ -184,8 +190,10 @@ class LegKinematics:
         mujoco.mj_jacSite(m, d, rows[1], jacr[1], self._soles[1])
         mujoco.mj_jacSubtreeCom(m, d, rows[2], self._com_body)
         if self.imu_axes_are_base:  # y = x_B - p_S straight from MuJoCo's arrays (row 3, -p_S, is fixed)
-            np.subtract(self._soles_xpos, self._p_s, out=self._y_soles)
-            np.subtract(self._com_view, self._p_s, out=self._y_com)
+            y_rows, p_s = self._y_rows, self._p_s
+            np.subtract(self._x_rows[0], p_s, y_rows[0])
+            np.subtract(self._x_rows[1], p_s, y_rows[1])
+            np.subtract(self._com_view, p_s, y_rows[2])
         else:
             self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
             self._pts[2] = self._com_view
@@ -194,7 +202,6 @@ class LegKinematics:
         self._ticks += 1
         if refresh:
             self._refresh_variances()
-        self._site_xmat.take(self._sole_ids, axis=0, out=self._rot_flat)
         if self.imu_axes_are_base:
             return self._body
         rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, self._rot)
@@ -207,6 +214,7 @@ class LegKinematics:
                 self._base_rot,
                 self._zero,
             )
+        self._y[...] = y  # points_aug holds the points for every IMU
         feet = FootKinematics(pos=y[0:2], vel=ydot[0:2], var=self._var, rot=rot, rot_var=self._rot_var)
         return BodyKinematics(feet, y, ydot, base_rot, base_omega)
 

@@ -68,6 +68,14 @@ class LegOdometry:
 
     def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:
         """One tick: attitude, then velocity and position from the stance feet (module docstring)."""
+        rot, vp, omega, _ = self.advance(imu, feet, contact, dt)
+        return new_base_state(rot.copy(), vp[1], vp[0], omega, self._bias.copy(), self._zero, None)
+
+    def advance(
+        self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float | None]:
+        """:meth:`step` without the :class:`BaseState`: (rot (3, 3), [vel; pos] (2, 3), omega (3,), None);
+        ``rot`` is the filter's own array, valid until the next tick (the estimator's path)."""
         t, rot = self.tuning, self.rot
         omega = imu.gyro - self._bias
         # attitude: e = a_hat x u with u = R^T e_z (third row of R)
@@ -101,6 +109,4 @@ class LegOdometry:
             self._vel = v_imu
             self._pos = self._pos + dt * v_imu
         self._anchored = stance
-        return new_base_state(
-            self.rot.copy(), self._pos.copy(), self._vel.copy(), omega, self._bias.copy(), self._zero, None
-        )
+        return self.rot, np.array((self._vel, self._pos)), omega, None

@@ -122,23 +122,26 @@ class SlipDetector:
     def update(
         self,
         stance: tuple[bool, bool],
-        vel: np.ndarray,
+        vel: Any,
         rates: np.ndarray,
         twist: Callable[[int, np.ndarray], tuple[np.ndarray, np.ndarray]],
     ) -> tuple[bool, bool]:
-        """One tick: ``stance`` (2,) flags, sole-centre velocities ``vel`` (2, 3) m/s, the rate vector
+        """One tick: ``stance`` (2,) flags, sole-centre velocities ``vel`` (2, 3) m/s (an array, or its
+        rows as lists), the rate vector
         ``rates`` (k,) and ``twist(i, LP(rates))`` -> (angular velocity (3,) rad/s, rotation sole -> world
         (3, 3)) of sole ``i``, called only for a sole whose centre moves."""
         a, lim = self.alpha, self.slip_speed
         flags = [False, False]
         centre = [0.0, 0.0]
-        for i, (vx, vy, _) in enumerate(vel.tolist()):
+        rows = vel.tolist() if isinstance(vel, np.ndarray) else vel
+        for i in (0, 1):
             lp = self.vel_lp[i]
             if not stance[i]:
                 lp[0] = lp[1] = 0.0
                 self.rates_lp[i] = 0.0
                 self.speed[i] = 0.0
                 continue
+            vx, vy = rows[i][0], rows[i][1]
             lp[0] += a * (vx - lp[0])
             lp[1] += a * (vy - lp[1])
             self.rates_lp[i] = self.rates_lp[i] + a * (rates - self.rates_lp[i])

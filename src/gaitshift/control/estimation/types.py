@@ -126,6 +126,13 @@ class BaseFilter(Protocol):
         """
         ...
 
+    def advance(
+        self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float | None]:
+        """:meth:`step` without building the :class:`BaseState`: (rot (3, 3), [vel; pos] (2, 3), omega (3,),
+        cov_trace); ``rot`` is the filter's own array, valid until the next tick (the estimator's path)."""
+        ...
+
 
 @dataclass(frozen=True, slots=True)
 class EstimatedState:
