@@ -10,7 +10,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitshift.control.feedback import CaptureSettings, PlanShift, capture_point_offset
+from gaitshift.control.feedback import (
+    CaptureSettings,
+    PlanShift,
+    SwingContext,
+    capture_point_offset,
+    predicted_error,
+)
 
 
 def test_offset_is_the_gain_times_the_capture_point_error_clipped_per_axis():
@@ -83,3 +89,38 @@ def test_anchoring_sets_the_shift_to_the_mean_offset_of_the_stance_soles_and_hol
     off = PlanShift(CaptureSettings(anchor=False), omega=4.0)
     off.anchor_on(np.array([True, True]), measured, planned)
     assert np.all(off.target == 0.0)
+
+
+def test_predicted_error_is_the_lipm_divergent_component_with_the_cop_at_the_sole_edge():
+    """e' = omega (e - d sign e) per axis of the sole frame (the CoP held at the edge of a sole of half
+    sizes d until the error is taken back, then on it), integrated with small explicit Euler steps,
+    against predicted_error's closed form; d = 0 gives the plain exp(omega tau)."""
+    omega, tau, yaw = 4.0, 0.2, 0.4
+    room = np.array([0.085, 0.025])
+    rot = np.array([[np.cos(yaw), -np.sin(yaw)], [np.sin(yaw), np.cos(yaw)]])
+    local = np.array([[0.12, -0.04], [-0.05, 0.01], [0.2, 0.026]])  # beyond, inside, just beyond the sole
+    e, n = local.copy(), 20_000
+    for _ in range(n):
+        moved = e + (tau / n) * omega * (e - room * np.sign(e))
+        e = np.where(np.sign(moved) == np.sign(e), moved, 0.0)
+    assert e[1, 1] == 0.0 and abs(e[1, 0]) < 0.05 and abs(e[0, 0]) > 0.12  # taken back, in part, grown
+    for k in range(len(local)):
+        got = predicted_error(rot @ local[k], np.exp(omega * tau), room, yaw)
+        np.testing.assert_allclose(got, rot @ e[k], atol=1e-5)
+    plain = predicted_error(np.array([0.03, -0.01]), np.exp(omega * tau), np.zeros(2), yaw)
+    np.testing.assert_allclose(plain, np.array([0.03, -0.01]) * np.exp(omega * tau), rtol=1e-12)
+
+
+def test_an_error_the_stance_sole_can_take_back_moves_no_foothold():
+    """A capture-point error of 1 cm to the left, 0.2 s before the touchdown, with the other foot in
+    stance: inside the sole's half width (2.5 cm) no correction; without cop_room 1 cm exp(omega tau)."""
+    omega = 4.0
+    footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
+    com, zero, vel = np.array([0.1, 0.0, 0.6]), np.zeros(3), np.array([0.0, 0.04, 0.0])
+    ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0, np.array([0.0, 0.5]))
+    with_room = PlanShift(CaptureSettings(kinematic_limits=False), omega=omega, room=(0.085, 0.025))
+    without = PlanShift(CaptureSettings(kinematic_limits=False, cop_room=False), omega=omega, room=(0.085, 0.025))
+    for shift in (with_room, without):
+        shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
+    np.testing.assert_array_equal(with_room.offset[0], [0.0, 0.0, 0.0])
+    assert without.offset[0][1] == pytest.approx(0.01 * np.exp(omega * 0.2))

@@ -11,7 +11,21 @@ LIPM's divergent component moves away from its foothold as ``xi' = omega (xi - p
 as ``exp(omega tau)`` until that stance ends or the swing foot lands, ``tau`` = the shorter of the two
 times left (0 when the other foot is not on the ground):
 
-    delta = k_cp (xi - xi_ref) exp(omega tau). The corrected
+    delta = k_cp (xi - xi_ref) exp(omega tau).
+
+With ``cop_room`` the prediction lets the stance sole do what the whole-body controller makes it do:
+move its centre of pressure off the planned ZMP (the plan's sole centre in single support) to take the
+error back. With the CoP held at the edge of a sole of half sizes ``d`` (heading frame, per axis), the
+LIPM's divergent component obeys ``e' = omega (e - d sign e)`` (Koolen et al. 2012, capturability with
+a finite-sized foot, eq. 9), so an error |e| > d grows and a smaller one is taken back by the ankle:
+
+    |e(tau)| = max(0, |e| exp(omega tau) - d (exp(omega tau) - 1)),   sign kept,
+
+which is the plain exp(omega tau) for d = 0 and the current error for tau = 0. Without it the step
+correction and the controller's CoP both act on the same error, the foot is over-corrected by what the
+ankle took back, the plan shift then moves the CoM reference by that much, and the next stance starts
+with the error reversed (g1-stairs-down: the feet stepped inward by 3, 5, 12 cm on successive steps,
+docs/simulation.md). The corrected
 foothold is then kept inside the leg's kinematic limits (reach from the hip at touchdown, no crossing
 of the feet: :mod:`gaitshift.control.step_limits`, derived from the robot model) and, if
 ``max_step_adjust`` is set, the correction is also clipped to it per axis. The correction is
@@ -49,6 +63,19 @@ class CaptureSettings:
     # on terrain a corrected touchdown keeps this many std of the position estimate (along x) more from
     # its tread's edges (control/reference.py; 0 on the truth)
     edge_sigmas: float = 2.0
+    # the predicted error leaves to the stance sole what its centre of pressure can take back (module docstring)
+    cop_room: bool = True
+
+
+def predicted_error(err: np.ndarray, growth: float, room: np.ndarray, yaw: float) -> np.ndarray:
+    """Divergent-component error (2,) m predicted after ``growth`` = exp(omega tau) >= 1 with the
+    stance sole's CoP at its edge (module docstring): ``err`` (2,) m in the world frame, ``room`` (2,)
+    m the sole's half length and half width (its heading ``yaw``, rad). Returns (2,) m, world frame."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    rot = np.array([[c, -s], [s, c]])
+    e = rot.T @ err
+    e = np.sign(e) * np.maximum(np.abs(e) * growth - room * (growth - 1.0), 0.0)
+    return np.asarray(rot @ e)
 
 
 def capture_point_offset(
@@ -105,9 +132,17 @@ class PlanShift:
         offset: (2, 3) m, correction of each swinging foot's target (0 for a stance foot).
     """
 
-    def __init__(self, settings: CaptureSettings, omega: float, limits: StepLimits | None = None) -> None:
+    def __init__(
+        self,
+        settings: CaptureSettings,
+        omega: float,
+        limits: StepLimits | None = None,
+        room: tuple[float, float] = (0.0, 0.0),
+    ) -> None:
+        """``room``: the stance sole's half length and half width, m (``cop_room``; the plan's sole)."""
         self.settings = settings
         self.omega = omega
+        self.room = np.asarray(room, float) if settings.cop_room else np.zeros(2)
         self.limits = limits if settings.kinematic_limits else None
         self.shift = np.zeros(3)
         self.target = np.zeros(3)
@@ -169,10 +204,17 @@ class PlanShift:
         for s in (0, 1):
             if stance[s] or progress[s] >= cfg.freeze_u:
                 continue
-            gain = cfg.gain
+            growth = 1.0
             if cfg.predict_touchdown and ctx is not None:
-                gain *= math.exp(self.omega * ctx.growth_time(s, stance))
-            delta = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, gain, clip)
+                growth = math.exp(self.omega * ctx.growth_time(s, stance))
+            if ctx is not None and growth > 1.0 and self.room.any():
+                err = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, 1.0, math.inf)
+                delta = np.zeros(3)
+                delta[:2] = np.clip(cfg.gain * predicted_error(err[:2], growth, self.room, ctx.yaw), -clip, clip)
+            else:
+                delta = capture_point_offset(
+                    com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain * growth, clip
+                )
             if self.limits is not None and ctx is not None:
                 base = ctx.footholds[s] + self.shift
                 o = 1 - s

@@ -260,18 +260,22 @@ class WholeBodyController:
             lay.lo["feet"][:] = b
 
     def _knee_bounds(self, vw: _Views, ref: TickReference, lay: QpLayout) -> None:
-        """Bounds on the swinging knees' accelerations that keep them ``limit_margin`` inside their
-        range over ``limit_horizon`` s: ``q + v T + a T^2 / 2`` within the range. Without them the
-        trailing knee of a fast running swing is driven straight into its limit just after lift-off
-        (docs/simulation.md, "Top speed")."""
+        """Bounds on the knees' accelerations that keep them ``limit_margin`` inside their range over
+        ``limit_horizon`` s: ``q + v T + a T^2 / 2`` within the range. Without them the trailing knee of
+        a fast running swing is driven straight into its limit just after lift-off (docs/simulation.md,
+        "Top speed"). A stance knee gets the straightening side only: at a straight knee the hip's
+        height has no first-order dependence on the knee angle (the leg's Jacobian loses its axial
+        row), so a QP that lets a loaded knee reach its stop can no longer lower the CoM with it; on
+        g1-stairs-down the leading leg landed straight on a lower tread and stayed locked in its stop
+        (docs/simulation.md, "What decides it")."""
         g = self.gains
         T = g.limit_horizon
         for s in (0, 1):
-            if ref.stance[s]:
-                continue
             drift = float(vw.qpos[self.knee_qadr[s]]) + float(vw.qvel[self.knee_dofs[s]]) * T
             lo = 2.0 * (float(self.knee_range[s, 0]) + g.limit_margin - drift) / T**2
             hi = 2.0 * (float(self.knee_range[s, 1]) - g.limit_margin - drift) / T**2
+            if ref.stance[s]:  # the straight knee is the end of the range nearer 0
+                lo, hi = (lo, INF) if abs(self.knee_range[s, 0]) <= abs(self.knee_range[s, 1]) else (-INF, hi)
             lay.lo["x"][self.knee_dofs[s]], lay.up["x"][self.knee_dofs[s]] = min(lo, hi), max(lo, hi)
 
     def _free_knees(self, lay: QpLayout) -> None:

@@ -152,7 +152,8 @@ class _Run:
         self.sched = FootScheduler(traj, self.plan, opts.schedule, plant.mass * 9.81)
         height = float(traj.meta.get("height", traj.com_pos[0, 2]))
         limits = StepLimits.from_plant(plant, height, opts.capture.reach_fraction)
-        self.shift = PlanShift(opts.capture, math.sqrt(traj.gravity / height), limits)
+        half = np.asarray(traj.meta.get("foot_size", (0.0, 0.0)), float) / 2
+        self.shift = PlanShift(opts.capture, math.sqrt(traj.gravity / height), limits, (float(half[0]), float(half[1])))
         self.sensor = ContactSensor(plant)
         end = replanner.duration_bound if replanner is not None else float(traj.t[-1])
         self.n_ticks = round((end + opts.settle) / self.dt) + 1
