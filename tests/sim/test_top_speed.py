@@ -1,6 +1,10 @@
 """Top speed on the simulated G1 (issue 13, docs/simulation.md "Top speed"): a short g1-top-speed
 (14 running steps, 2 at the constant stride) at 2.0 m/s holds with the running timing law of the
-robot (gaitshift.gait.run_timing) and falls with the fixed g1-run timing at the same speed."""
+robot (gaitshift.gait.run_timing); with the fixed g1-run timing at the same speed it does worse: the
+robot falls, the QP turns infeasible (the posture fallback acts), or it runs slower than with the law.
+The fixed timing fell (4.98 s) before the CoP room of the step feedback; with it, it holds with every QP
+feasible but lags its plan: 1.89 m/s at most against the law's 1.94 m/s (2026-11-24; docs/simulation.md
+"Top speed")."""
 
 from __future__ import annotations
 
@@ -35,4 +39,6 @@ def test_two_metres_per_second_holds_with_the_timing_law_and_falls_with_the_fixe
     fast = a["t"] > 3.0
     assert a["com_vel"][fast, 0].max() >= 1.9  # it really ran at about 2 m/s
     fixed = _short_run(2.0, float("inf"))
-    assert fixed.fell
+    b = fixed.arrays
+    slower = b["com_vel"][b["t"] > 3.0, 0].max() < a["com_vel"][fast, 0].max()
+    assert fixed.fell or fixed.metrics["qp_failures"] > 0 or slower

@@ -21,7 +21,9 @@ a finite-sized foot, eq. 9), so an error |e| > d grows and a smaller one is take
 
     |e(tau)| = max(0, |e| exp(omega tau) - d (exp(omega tau) - 1)),   sign kept,
 
-which is the plain exp(omega tau) for d = 0 and the current error for tau = 0. Without it the step
+which is the plain exp(omega tau) for d = 0 and the current error for tau = 0. ``d`` is the CoP's room:
+the sole's half size, or less where the leg's motors cannot hold the moment at the load the plan puts
+on the sole over ``tau`` (:mod:`gaitshift.control.cop_room`: the T1's 20 N m ankles). Without it the step
 correction and the controller's CoP both act on the same error, the foot is over-corrected by what the
 ankle took back, the plan shift then moves the CoM reference by that much, and the next stance starts
 with the error reversed (g1-stairs-down: the feet stepped inward by 3, 5, 12 cm on successive steps,
@@ -40,10 +42,12 @@ is translation invariant.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from gaitshift.control.cop_room import CopRoom
 from gaitshift.control.step_limits import StepLimits
 
 
@@ -107,6 +111,8 @@ class SwingContext:
         time_left: (2,) s, time to each foot's planned touchdown (>= 0).
         yaw: heading of the plan now, rad.
         stance_left: (2,) s, time to each stance foot's planned lift-off (>= 0; 0 for a swinging foot).
+        load_factor: the plan's mean vertical force over the next ``tau`` s in units of the weight,
+            ``1 + (zd(t + tau) - zd(t)) / (g tau)`` (:mod:`gaitshift.control.cop_room`); None: 1.
     """
 
     footholds: np.ndarray
@@ -114,6 +120,7 @@ class SwingContext:
     time_left: np.ndarray
     yaw: float
     stance_left: np.ndarray | None = None
+    load_factor: Callable[[float], float] | None = None
 
     def growth_time(self, side: int, stance: np.ndarray) -> float:
         """tau of the module docstring for the swinging foot ``side``, s."""
@@ -137,12 +144,16 @@ class PlanShift:
         settings: CaptureSettings,
         omega: float,
         limits: StepLimits | None = None,
-        room: tuple[float, float] = (0.0, 0.0),
+        room: CopRoom | tuple[float, float] = (0.0, 0.0),
+        weight: float = 1.0,
     ) -> None:
-        """``room``: the stance sole's half length and half width, m (``cop_room``; the plan's sole)."""
+        """``room``: the stance sole's CoP room (:class:`CopRoom`), or its half length and half width, m
+        (the sole alone); ``weight``: m g, N (``cop_room``)."""
         self.settings = settings
         self.omega = omega
-        self.room = np.asarray(room, float) if settings.cop_room else np.zeros(2)
+        cop = room if isinstance(room, CopRoom) else CopRoom.sole_only(room)
+        self.cop = cop if settings.cop_room and cop.half.any() else None
+        self.weight = weight
         self.limits = limits if settings.kinematic_limits else None
         self.shift = np.zeros(3)
         self.target = np.zeros(3)
@@ -204,13 +215,14 @@ class PlanShift:
         for s in (0, 1):
             if stance[s] or progress[s] >= cfg.freeze_u:
                 continue
-            growth = 1.0
-            if cfg.predict_touchdown and ctx is not None:
-                growth = math.exp(self.omega * ctx.growth_time(s, stance))
-            if ctx is not None and growth > 1.0 and self.room.any():
+            tau = ctx.growth_time(s, stance) if cfg.predict_touchdown and ctx is not None else 0.0
+            growth = math.exp(self.omega * tau)
+            if ctx is not None and tau > 0.0 and self.cop is not None:
+                load = ctx.load_factor(tau) if ctx.load_factor is not None else 1.0
+                room = self.cop.at(max(load, 0.1) * self.weight)
                 err = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, 1.0, math.inf)
                 delta = np.zeros(3)
-                delta[:2] = np.clip(cfg.gain * predicted_error(err[:2], growth, self.room, ctx.yaw), -clip, clip)
+                delta[:2] = np.clip(cfg.gain * predicted_error(err[:2], growth, room, ctx.yaw), -clip, clip)
             else:
                 delta = capture_point_offset(
                     com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain * growth, clip

@@ -27,12 +27,14 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field, replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import mujoco
 import numpy as np
 
+from gaitshift.control.cop_room import CopRoom
 from gaitshift.control.drivers import PlanDriver
 from gaitshift.control.feedback import CaptureSettings, PlanShift, SwingContext
 from gaitshift.control.plan_samples import PlanSamples
@@ -153,7 +155,9 @@ class _Run:
         height = float(traj.meta.get("height", traj.com_pos[0, 2]))
         limits = StepLimits.from_plant(plant, height, opts.capture.reach_fraction)
         half = np.asarray(traj.meta.get("foot_size", (0.0, 0.0)), float) / 2
-        self.shift = PlanShift(opts.capture, math.sqrt(traj.gravity / height), limits, (float(half[0]), float(half[1])))
+        room = CopRoom.from_plant(plant, self.d, (float(half[0]), float(half[1])))
+        omega = math.sqrt(traj.gravity / height)
+        self.shift = PlanShift(opts.capture, omega, limits, room, plant.mass * traj.gravity)
         self.sensor = ContactSensor(plant)
         end = replanner.duration_bound if replanner is not None else float(traj.t[-1])
         self.n_ticks = round((end + opts.settle) / self.dt) + 1
@@ -188,7 +192,8 @@ class _Run:
         shift.blend(self.dt)
         progress = np.array([sched.swing_progress(tp, s) for s in (0, 1)])
         left = np.maximum(sched.swing_end - tp, 0.0), float(self.plan.heading[i])
-        ctx = SwingContext(planned, measured, *left, np.where(sched.stance, np.maximum(sched.lift_at - tp, 0.0), 0.0))
+        stance_left = np.where(sched.stance, np.maximum(sched.lift_at - tp, 0.0), 0.0)
+        ctx = SwingContext(planned, measured, *left, stance_left, partial(self.load_factor, tp, i))
         shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i], ctx)
         pos_std = 0.0 if self.plan.terrain.flat else self.sensing.position_std()
         ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.opts.swing, pos_std)
@@ -198,6 +203,14 @@ class _Run:
         push = self.push[k] if k < len(self.push) else np.zeros(3)
         d.xfrc_applied[self.plant.pelvis_body, :3] = push
         return tau, ref, info, shift.shift.copy(), traj.contact[i], push
+
+    def load_factor(self, tp: float, i: int, tau: float) -> float:
+        """The plan's mean vertical force over ``[tp, tp + tau]`` in units of the weight (plan sample ``i``
+        at time ``tp``): ``1 + (zd(tp + tau) - zd(tp)) / (g tau)``, the CoM's impulse balance
+        (:mod:`gaitshift.control.cop_room`)."""
+        traj = self.traj
+        j = min(int(np.searchsorted(traj.t, tp + tau)), len(traj.t) - 1)
+        return 1.0 + float(traj.com_vel[j, 2] - traj.com_vel[i, 2]) / (traj.gravity * tau)
 
     def footholds(self, view: ControllerView) -> tuple[np.ndarray, np.ndarray]:
         """Sole positions (2, 3) m as the controller sees them, and the plan's footholds (2, 3) m of the
