@@ -74,7 +74,8 @@ class CaptureSettings:
 def predicted_error(err: np.ndarray, growth: float, room: np.ndarray, yaw: float) -> np.ndarray:
     """Divergent-component error (2,) m predicted after ``growth`` = exp(omega tau) >= 1 with the
     stance sole's CoP at its edge (module docstring): ``err`` (2,) m in the world frame, ``room`` (2,)
-    m the sole's half length and half width (its heading ``yaw``, rad). Returns (2,) m, world frame."""
+    m how far the CoP can move along and across the sole (:class:`CopRoom`; its heading ``yaw``, rad).
+    Returns (2,) m, world frame."""
     c, s = math.cos(yaw), math.sin(yaw)
     rot = np.array([[c, -s], [s, c]])
     e = rot.T @ err
