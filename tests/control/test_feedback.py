@@ -118,7 +118,7 @@ def test_an_error_the_stance_sole_can_take_back_moves_no_foothold():
     footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
     com, zero, vel = np.array([0.1, 0.0, 0.6]), np.zeros(3), np.array([0.0, 0.04, 0.0])
     ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0, np.array([0.0, 0.5]))
-    with_room = PlanShift(CaptureSettings(kinematic_limits=False), omega=omega, room=(0.085, 0.025))
+    with_room = PlanShift(CaptureSettings(kinematic_limits=False, cop_room=True), omega=omega, room=(0.085, 0.025))
     without = PlanShift(CaptureSettings(kinematic_limits=False, cop_room=False), omega=omega, room=(0.085, 0.025))
     for shift in (with_room, without):
         shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)

@@ -2,9 +2,9 @@
 (14 running steps, 2 at the constant stride) at 2.0 m/s holds with the running timing law of the
 robot (gaitshift.gait.run_timing); with the fixed g1-run timing at the same speed it does worse: the
 robot falls, the QP turns infeasible (the posture fallback acts), or it runs slower than with the law.
-The fixed timing fell (4.98 s) before the CoP room of the step feedback; with it, it holds with every QP
-feasible but lags its plan: 1.89 m/s at most against the law's 1.94 m/s (2026-11-24; docs/simulation.md
-"Top speed")."""
+The fixed timing fell (4.98 s) before the QP's stance-knee bounds (g1-stairs-down); with them it holds
+with every QP feasible but lags its plan: 1.85 m/s at most against the law's 2.01 m/s (2026-11-24;
+docs/simulation.md "Top speed")."""
 
 from __future__ import annotations
 

@@ -67,8 +67,10 @@ class CaptureSettings:
     # on terrain a corrected touchdown keeps this many std of the position estimate (along x) more from
     # its tread's edges (control/reference.py; 0 on the truth)
     edge_sigmas: float = 2.0
-    # the predicted error leaves to the stance sole what its centre of pressure can take back (module docstring)
-    cop_room: bool = True
+    # the predicted error leaves to the stance sole what its centre of pressure can take back (module
+    # docstring). Off by default: it holds g1-stairs-down on seeds 0-5 but g1-walk-run-walk then falls on
+    # a 0.4 friction floor (8.70 s estimated, 8.85 s oracle; docs/simulation.md, "What decides it")
+    cop_room: bool = False
 
 
 def predicted_error(err: np.ndarray, growth: float, room: np.ndarray, yaw: float) -> np.ndarray:
