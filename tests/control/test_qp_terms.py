@@ -3,7 +3,8 @@
 Oracles: ``yaw_error`` (quaternions) against ``rotation_error`` (matrices, itself checked against
 SciPy in test_wbc); ``solve_qp`` in daqp's two-sided form against quadprog given the one-sided form
 written out here, and its quadprog fallback (daqp made to fail) against daqp's own answer; both
-answers must satisfy the bounds, the two-sided rows and the equalities.
+answers must satisfy the bounds, the two-sided rows and the equalities; a problem daqp proves
+infeasible is one quadprog finds infeasible too, and it is not handed to quadprog.
 """
 
 from __future__ import annotations
@@ -25,6 +26,9 @@ def test_yaw_error_on_quaternions_equals_the_rotation_vector_of_the_matrices():
         yaw = rng.uniform(-7.0, 7.0)
         quat = R.as_quat(scalar_first=True) * rng.choice([-1.0, 1.0])  # q and -q: the same rotation
         np.testing.assert_allclose(yaw_error(yaw, quat), rotation_error(rot_z(yaw), R.as_matrix()), atol=1e-12)
+        pitch = rng.uniform(-0.5, 0.5)  # a sole on a ramp: rot_z(yaw) rot_y(-pitch)
+        R_ref = rot_z(yaw) @ Rotation.from_rotvec([0.0, -pitch, 0.0]).as_matrix()
+        np.testing.assert_allclose(yaw_error(yaw, quat, pitch), rotation_error(R_ref, R.as_matrix()), atol=1e-12)
 
 
 def _problem(seed: int = 0):
@@ -82,3 +86,16 @@ def test_quadprog_fallback_gives_daqps_answer(monkeypatch: pytest.MonkeyPatch):
     assert solver == "quadprog"
     np.testing.assert_allclose(x, x_daqp, atol=1e-6)
     _check_feasible(x, A, bu, bl)
+
+
+def test_a_problem_daqp_proves_infeasible_is_not_handed_to_quadprog(monkeypatch: pytest.MonkeyPatch):
+    H, f, A, bu, bl, sense = _problem(2)
+    n = len(f)
+    A[1] = A[0]  # rows 0 and 1 alike: a x <= u and a x >= u + 1
+    bl[n], bl[n + 1], bu[n + 1] = -INF, bu[n] + 1.0, INF
+    one_sided = qpsolvers.solve_qp(H, f, np.vstack([A[:1], -A[1:2]]), np.array([bu[n], -bl[n + 1]]), solver="quadprog")
+    assert one_sided is None  # quadprog finds no point either
+    calls = []
+    monkeypatch.setattr(qpsolvers, "solve_qp", lambda *a, **k: calls.append(1))
+    x, solver = solve_qp(H, f, A, bu, bl, sense)
+    assert x is None and solver == "daqp" and not calls

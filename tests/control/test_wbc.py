@@ -1,10 +1,11 @@
 """Whole-body inverse-dynamics QP on the G1: the solution obeys physics checked by other code.
 
-Oracles: the QP's (qdd, f, tau) must satisfy the equations of motion as recomputed by MuJoCo's
-recursive Newton-Euler (``mj_rne``), a different code path from the mass matrix the QP uses; its
-contact forces must lie in the friction pyramids and under the per-foot normal-force caps; the contact
-forces MuJoCo measures under a standing robot must carry its weight (Newton); ``rotation_error`` is
-compared with SciPy's rotation vectors.
+Oracles: the QP's (qdd, w, tau) must satisfy the equations of motion as recomputed by MuJoCo's
+recursive Newton-Euler (``mj_rne``), a different code path from the mass matrix the QP uses; each sole's
+contact wrench must be exerted by forces at its contact points inside their friction pyramids (found
+here by non-negative least squares on the pyramid edges) and stay under the per-foot normal-force cap;
+the contact forces MuJoCo measures under a standing robot must carry its weight (Newton);
+``rotation_error`` is compared with SciPy's rotation vectors.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+from scipy.optimize import nnls
 from scipy.spatial.transform import Rotation
 
 from gaitshift.common.rotations import rot_z
@@ -25,20 +27,34 @@ def _reference(com, feet, stance=(True, True), fz_max=1e4, com_acc=(0.0, 0.0, 0.
     return ref
 
 
-def _check_dynamics(plant, d, tau, info):
-    """M qdd + bias = S^T tau + Jc^T f by mj_rne; unilateral, friction-cone forces; torque limits."""
+def _point_forces(plant, d, side, wrench):
+    """Forces (n, 3) at the contact points of sole ``side`` in their pyramids (sole axes) exerting
+    ``wrench`` (6,) [F; tau] about the sole centre, world frame (non-negative least squares on the
+    pyramid edges); asserts that they exert it."""
+    c, R = plant.sole_frame(d, side)
+    mu = Gains().mu
+    edges = R @ (np.array([[1, 1, 1], [1, -1, 1], [-1, 1, 1], [-1, -1, 1]], float) * [mu, mu, 1.0]).T  # (3, 4)
+    arms = plant.contact_points(d, side) - c
+    V = np.vstack([np.tile(edges, len(arms)), np.hstack([np.cross(r, edges.T).T for r in arms])])
+    lam, residual = nnls(V, wrench)
+    assert residual <= 1e-6 * np.linalg.norm(wrench)
+    return (np.tile(edges, len(arms)) * lam).reshape(3, len(arms), 4).sum(axis=2).T
+
+
+def _check_dynamics(plant, d, tau, info, stance=(0, 1)):
+    """M qdd + bias = S^T tau + J^T w by mj_rne; each sole's wrench exerted by point forces in their
+    pyramids; torque limits. Returns the point forces (n, 3) per stance sole."""
     rne = np.zeros(plant.model.nv)
     d.qacc[:] = info.qdd
     mujoco.mj_rne(plant.model, d, 1, rne)  # M qdd + bias, by recursive Newton-Euler
     rne += plant.model.dof_armature * info.qdd  # rotor inertia: in M (mj_crb) but not in the RNE tree
-    gen = info.contact_jacobian.T @ info.contact_forces
+    gen = info.contact_jacobian.T @ info.contact_wrenches
     gen[plant.actuated_dofs] += tau
     np.testing.assert_allclose(rne - d.qfrc_passive, gen, atol=1e-6 * np.max(np.abs(rne)))
-    f = info.contact_forces.reshape(-1, 3)
-    assert np.all(f[:, 2] >= -1e-9)
-    assert np.all(np.abs(f[:, :2]) <= Gains().mu * f[:, 2:3] + 1e-6)
     assert np.all(np.abs(tau) <= plant.torque_limit + 1e-9)
-    return f
+    w = info.contact_wrenches.reshape(-1, 6)
+    assert len(w) == len(stance)
+    return [_point_forces(plant, d, s, w[j]) for j, s in enumerate(stance)]
 
 
 def test_qp_solution_satisfies_the_equations_of_motion_by_newton_euler():
@@ -57,11 +73,10 @@ def test_single_support_puts_all_force_on_the_stance_foot_under_its_cap():
     lifted = feet + np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.02]])
     tau, info = ctrl.compute(d, _reference(d.subtree_com[0].copy(), lifted, stance=(True, False), fz_max=cap))
     assert info.ok
-    f = _check_dynamics(plant, d, tau, info)
-    assert len(f) == 4  # only the left sole's four points carry force
+    (f,) = _check_dynamics(plant, d, tau, info, stance=(0,))  # only the left sole carries force
     assert f[:, 2].sum() <= cap + 1e-6
     assert f[:, 2].sum() > 0.5 * cap
-    np.testing.assert_allclose(info.forces[0], f.sum(axis=0), atol=1e-9)
+    np.testing.assert_allclose(info.forces[0], f.sum(axis=0), atol=1e-6)
     assert np.all(info.forces[1] == 0.0)
 
 
@@ -97,3 +112,29 @@ def test_rotation_error_is_the_rotation_vector_taking_r_to_r_ref():
         e = rotation_error(R_ref, R)
         np.testing.assert_allclose(e, Rotation.from_matrix(R_ref @ R.T).as_rotvec(), atol=1e-9)
     np.testing.assert_allclose(rotation_error(rot_z(0.3), rot_z(0.1)), [0.0, 0.0, 0.2], atol=1e-12)
+
+
+def test_task_frame_jacobians_match_mujocos_at_a_moving_state():
+    """The four task frames (one gather of the poses, the pelvis's angular rows in closed form on its
+    free joint) against ``mj_jac``/``mj_jacDot`` and ``plant.sole_frame`` at a tilted, moving state."""
+    plant, d, q0, _ = standing()
+    m = plant.model
+    rng = np.random.default_rng(2)
+    d.qpos[3:7] = Rotation.from_rotvec([0.3, -0.2, 0.8]).as_quat(scalar_first=True)
+    d.qpos[7:] += rng.uniform(-0.2, 0.2, m.nq - 7)
+    d.qvel[:] = rng.normal(size=m.nv)
+    mujoco.mj_forward(m, d)
+    J, Jd, P, R = WholeBodyController(plant, q0).task_frames(d)
+    bodies = [plant.soles[0].body, plant.soles[1].body, plant.torso_body, plant.pelvis_body]
+    for i, body in enumerate(bodies):
+        point = plant.sole_frame(d, i)[0] if i < 2 else d.xpos[body]
+        jp, jr, dp, dr = (np.zeros((3, m.nv)) for _ in range(4))
+        mujoco.mj_jac(m, d, jp, jr, point, body)
+        mujoco.mj_jacDot(m, d, dp, dr, point, body)
+        np.testing.assert_allclose(J[i, 3:], jr, atol=1e-12)
+        np.testing.assert_allclose(Jd[i, 3:], dr @ d.qvel, atol=1e-9)
+        if i < 2:  # the soles' linear rows and frames (the torso's and pelvis's positions are not tasks)
+            np.testing.assert_allclose(J[i, :3], jp, atol=1e-12)
+            np.testing.assert_allclose(Jd[i, :3], dp @ d.qvel, atol=1e-9)
+            np.testing.assert_allclose(P[i], point, atol=1e-12)
+            np.testing.assert_allclose(R[i], plant.sole_frame(d, i)[1], atol=1e-12)

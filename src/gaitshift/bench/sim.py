@@ -9,7 +9,9 @@ the baseline measured in the same run.
   step, against a bare ``mj_step`` of the same model (>= 0.5x real time required by issue 5).
 
 The states are the standing G1 holding still in double support and lifting the right foot by 2 cm in
-single support (docs/simulation.md, "Controller tick", gives the split and in-run figures).
+single support, with the CoM reference left between the feet: there the robot tips over onto the left
+sole's edge, and from about tick 300 most QPs are hard (25-37 active-set iterations, about 40 % of the
+ticks solve twice). docs/simulation.md, "Controller tick", gives the split and the in-run figures.
 """
 
 from __future__ import annotations

@@ -13,10 +13,17 @@ import numpy as np
 
 
 class SoleView(Protocol):
-    """One sole: on body ``body``, contact ``points`` (n, 3) m in the sole frame relative to its centre."""
+    """One sole: on body ``body``, its centre ``centre`` (3,) m and frame ``rotation`` (3, 3) in the body
+    frame, contact ``points`` (n, 3) m in the sole frame relative to its centre."""
 
     @property
     def body(self) -> int: ...
+
+    @property
+    def centre(self) -> np.ndarray: ...
+
+    @property
+    def rotation(self) -> np.ndarray: ...
 
     @property
     def points(self) -> np.ndarray: ...

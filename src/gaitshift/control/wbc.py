@@ -3,66 +3,56 @@
 Model, from MuJoCo's own quantities at the current state (``M = mj_fullM``, ``h = qfrc_bias -
 qfrc_passive``, Jacobians ``mj_jac``/``mj_jacDot``)::
 
-    M qdd + h = S^T tau + sum_i Jp_i^T f_i                                  (1)
+    M qdd + h = S^T tau + sum_s J_s^T w_s                                    (1)
 
-with ``f_i`` the force at contact point i (the lowest points of the contact geoms of each stance
-foot, world frame: the four sphere bottoms of the G1, the corners of a box sole). Unknowns
-``x = [qdd (nv), f (3k)]``; the torques are the affine function
-``tau = S (M qdd + h - Jc^T f)`` of them, so torque limits are linear inequalities in x. Eliminating
-tau this way is exact and keeps the QP at nv + 3k variables (35 + 24 for the G1 in double support).
-Gains, references and diagnostics: :mod:`gaitshift.control.wbc_data`; QP pieces:
-:mod:`gaitshift.control.qp_terms`; the fixed structure per stance set (two-sided torque rows, the
-constant friction and cap rows, reused each tick): :mod:`gaitshift.control.qp_layout`.
-
-The cost is block diagonal: every task acts either on qdd or on f. Each block is assembled with one
-product of the stacked, weighted task rows (``H = sum_t w_t A_t^T A_t``), and the QP goes straight to
-daqp (docs/simulation.md, "Controller tick").
+with ``w_s = [F_s; tau_s]`` the contact wrench of stance sole s about its centre (world frame) and
+``J_s`` (6, nv) the Jacobian of the sole frame (linear velocity of the sole centre, then angular).
+Unknowns ``x = [qdd (nv), w (6 per stance sole)]``; the torques are the affine function
+``tau = S (M qdd + h - sum_s J_s^T w_s)`` of them, so torque limits are linear inequalities in x.
+Eliminating tau this way is exact and keeps the QP at nv + 6 ns variables (35 + 12 for the G1 in
+double support). Gains, references and diagnostics: :mod:`gaitshift.control.wbc_data`; QP pieces:
+:mod:`gaitshift.control.qp_terms`; the contact wrench cone: :mod:`gaitshift.control.wrench_cone`; the
+fixed structure and work buffers per stance set: :mod:`gaitshift.control.qp_layout`.
 
 Hard constraints:
     * floating-base rows of (1) (6 equations);
-    * non-sliding stance feet: ``J_foot qdd + Jdot_foot qd = -K_v v_foot`` (6 per stance foot);
-    * friction pyramids ``|f_x|, |f_y| <= mu f_z`` and unilateral ``f_z >= 0`` per point; the CoP of a
-      foot is then inside the convex hull of its points, i.e. inside the sole;
-    * per-foot normal-force cap ``sum f_z <= F_max`` (the touchdown/lift-off force ramp);
+    * non-sliding stance feet: ``J_s qdd + Jdot_s qd = -K_v v_s`` (6 per stance foot);
+    * contact wrench cone per stance sole (Caron, Pham, Nakamura, ICRA 2015): w_s is a wrench that
+      forces at the sole's contact points, each in its friction pyramid ``|f_x|, |f_y| <= mu f_z``
+      (sole axes), can exert; this holds the CoP inside the sole and bounds the yaw moment. The faces
+      are those of the points' own cone (a rectangle's are Caron's 16 rows; the G1's trapezoid has 28);
+    * per-foot normal-force cap ``F_z <= F_max`` (the touchdown/lift-off force ramp);
     * torque limits ``|tau| <= tau_max``.
 
 Weighted tasks (least squares, accelerations in m/s^2 or rad/s^2):
-    * CoM: ``sum f / m = cdd_ref + K_p (c_ref - c) + K_d (cd_ref - cd) + g e_z``. Expressed on the
-      contact forces, this is exact (Newton's law for the whole robot) and needs no CoM Jacobian
+    * CoM: ``sum F / m = cdd_ref + K_p (c_ref - c) + K_d (cd_ref - cd) + g e_z``. Expressed on the
+      contact wrenches, this is exact (Newton's law for the whole robot) and needs no CoM Jacobian
       derivative; in flight it is absent (the CoM is ballistic whatever we do);
-    * centroidal angular momentum damping: ``sum (p_i - c) x f_i = -K_L L`` (Euler's law about the
-      CoM, L from ``mj_subtreeVel``);
+    * centroidal angular momentum damping: ``sum_s (c_s - c) x F_s + tau_s = -K_L L`` (Euler's law
+      about the CoM, L from ``mj_subtreeVel``);
     * swing-foot pose (position PD + feedforward acceleration, flat sole with the reference yaw);
     * torso and pelvis orientation (upright, reference yaw);
-    * posture (joint PD toward the standing pose) and a small regularisation.
+    * posture (joint PD toward the standing pose) and a small regularisation; on the wrenches it is
+      the least sum of squared point forces that exerts them, ``w_s^T B_s Q B_s^T w_s``
+      (:func:`gaitshift.control.wrench_cone.min_norm_metric`, ``B_s = diag(R_s, R_s)``).
+
+The cost is block diagonal: every task acts either on qdd or on w. Each block is assembled with one
+product of the stacked, weighted task rows (``H = sum_t w_t A_t^T A_t``) into the layout's buffers,
+and the QP goes straight to daqp (docs/simulation.md, "Controller tick").
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
 from gaitshift.control.plant_view import PlantView
 from gaitshift.control.qp_layout import QpLayout
-from gaitshift.control.qp_terms import INF, rotation_error, skew, solve_qp, yaw_error
+from gaitshift.control.qp_terms import INF, SKEW_BASIS, quat_yaw_error, rotation_error, solve_qp
 from gaitshift.control.wbc_data import Gains, TickInfo, TickReference
+from gaitshift.control.wrench_cone import SoleCone
 
 __all__ = ["Gains", "TickInfo", "TickReference", "WholeBodyController", "rotation_error"]
-
-
-@dataclass
-class _Frames:
-    """The four task frames at the current state, in the order (left sole, right sole, torso, pelvis):
-    Jacobians J (4, 6, nv) (linear then angular, at the sole centre / the body origin), velocities
-    ``v = J qd`` (4, 6), ``Jdot qd`` (4, 6); sole centres (2, 3) and sole rotations (2, 3, 3)."""
-
-    J: np.ndarray
-    v: np.ndarray
-    Jd: np.ndarray
-    centre: np.ndarray
-    R: list[np.ndarray]
 
 
 class _Views:
@@ -75,9 +65,32 @@ class _Views:
         self.qpos, self.qvel = data.qpos, data.qvel
         self.com, self.com_vel, self.L = data.subtree_com[0], data.subtree_linvel[0], data.subtree_angmom[0]
         self.bias, self.passive = data.qfrc_bias, data.qfrc_passive
-        self.xpos, self.xmat = data.xpos, data.xmat
-        self.torso_pos, self.pelvis_pos = data.xpos[torso], data.xpos[pelvis]
+        self.xpos, self.xmat, self.xquat = data.xpos, data.xmat, data.xquat
         self.torso_quat, self.pelvis_quat = data.xquat[torso], data.xquat[pelvis]
+
+
+class _Stance:
+    """What one stance set (left, right in stance) fixes for the current gains: the QP layout, the
+    frame-task rows in use among the 24 (position and orientation of the swing soles, orientation of
+    the torso and the pelvis) and their weights, the swing sides, the stance soles' cone faces and
+    regularisation rows ``L^T`` (``Q = L L^T``), block diagonal over the stance soles, (m, 6 ns) and
+    (6 ns, 6 ns), in the sole frames (times ``B^T`` in the world, :attr:`QpLayout.B`), and the
+    weights of the wrench-task rows (CoM, angular momentum, regularisation)."""
+
+    def __init__(self, lay: QpLayout, key: tuple[bool, bool], w_task: np.ndarray, w_cent: np.ndarray, w_reg: float):
+        self.lay = lay
+        self.swing = tuple(s for s in (0, 1) if not key[s])
+        self.rows = np.array([r for s in self.swing for r in range(6 * s, 6 * s + 6)] + [15, 16, 17, 21, 22, 23])
+        self.w_rows = w_task.ravel()[self.rows]
+        ns = len(lay.stance)
+        self.faces = np.zeros((lay.rows["cone"].stop - lay.rows["cone"].start, 6 * ns))
+        self.reg = np.zeros((6 * ns, 6 * ns))
+        r = 0
+        for j, c in enumerate(lay.cones):
+            self.faces[r : r + len(c.faces), 6 * j : 6 * j + 6] = c.faces
+            self.reg[6 * j : 6 * j + 6, 6 * j : 6 * j + 6] = np.linalg.cholesky(c.metric).T
+            r += len(c.faces)
+        self.w_wrench = np.concatenate([w_cent, np.full(6 * len(lay.stance), w_reg)])
 
 
 class WholeBodyController:
@@ -93,51 +106,97 @@ class WholeBodyController:
         self.plant = plant
         self.gains = gains or Gains()
         m = plant.model
-        self.nv = m.nv
-        self.nu = m.nu
+        self.nv, self.nu = m.nv, m.nu
         self.M = np.zeros((m.nv, m.nv))
         self.q_posture = posture[7:].copy()
         names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, m.dof_jntid[d]) for d in plant.actuated_dofs]
         arms = set(plant.robot.arm_joints)
         self.arm = np.array([n in arms for n in names])
-        self.n_points = [len(s.points) for s in plant.soles]
         knees = [names.index(k) for k in plant.robot.knees]  # (left, right)
         self.knee_dofs = plant.actuated_dofs[knees]
         self.knee_qadr = m.jnt_qposadr[m.dof_jntid[self.knee_dofs]]
         self.knee_range = m.jnt_range[m.dof_jntid[self.knee_dofs]]
+        self._knee = [
+            (int(d), (float(r[0]), float(r[1]))) for d, r in zip(self.knee_dofs, self.knee_range, strict=True)
+        ]
         self.mass = plant.mass
         self.gravity = -float(m.opt.gravity[2])
         self.last_solver = "daqp"
-        self._layouts: dict[tuple[int, ...], QpLayout] = {}
+        self._cones: dict[float, tuple[SoleCone, SoleCone]] = {}
+        self._stances: dict[tuple[bool, bool], _Stance] = {}
         self._cached_gains: Gains | None = None
-        self._w_posture = self._w_diag = self._com_kp = self._com_kd = self._row_lim = np.zeros(0)
-        self._J = np.zeros((4, 6, m.nv))
-        self._Jdot = np.zeros((4, 6, m.nv))
-        self._bodies = (plant.soles[0].body, plant.soles[1].body, plant.torso_body, plant.pelvis_body)
         dofs = np.concatenate([np.arange(6), plant.actuated_dofs])  # the dynamics and torque rows
         self._dofs: slice | np.ndarray = slice(None) if np.array_equal(dofs, np.arange(m.nv)) else dofs
+        act = plant.actuated_dofs
+        self._act: slice | np.ndarray = slice(6, m.nv) if np.array_equal(act, np.arange(6, m.nv)) else act
         self._views: _Views | None = None
-        # PD terms of the frame tasks, (4, 6) per frame (rows of _Frames): errors, velocity references,
-        # feedforward accelerations; gains and weights (with the gains); rows in use per stance set
+        # the four task frames (left sole, right sole, torso, pelvis): bodies, points on them (sole
+        # centres, body origins), Jacobians (4, 6, nv) (linear then angular), v = J qd, Jdot qd (4, 6),
+        # world points (4, 3), sole rotations (2, 3, 3)
+        soles = plant.soles
+        self._body_ids = [soles[0].body, soles[1].body, plant.torso_body, plant.pelvis_body]
+        self._bodies = np.array(self._body_ids)
+        self._offset = np.zeros((4, 1, 3))  # the points in the body frames, as rows
+        self._offset[:2, 0] = [s.centre for s in soles]
+        self._tmp = np.zeros((4, 3, 3))
+        rot = np.array([s.rotation for s in soles])
+        self._sole_rot = None if np.array_equal(rot, np.broadcast_to(np.eye(3), rot.shape)) else rot
+        self._J, self._Jdot = np.zeros((4, 6, m.nv)), np.zeros((4, 6, m.nv))
+        self._v, self._Jd = np.zeros((4, 6)), np.zeros((4, 6))
+        self._P, self._R = np.zeros((4, 3)), np.zeros((2, 3, 3))
+        J, Jdot, P = self._J, self._Jdot, self._P
+        # the pelvis on a free joint: angular velocity R qd[3:6] (MuJoCo's free joint turns in its body
+        # frame), so its angular Jacobian is [0, R, 0] and its Jdot qd is R [w]x w = 0; only its angular
+        # rows are used (orientation task)
+        self._free_base = bool(
+            m.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+            and m.jnt_bodyid[0] == plant.pelvis_body
+            and m.jnt_dofadr[0] == 0
+        )
+        frames = 3 if self._free_base else 4
+        self._jac_args = [
+            (J[i, :3], J[i, 3:], Jdot[i, :3], Jdot[i, 3:], P[i], self._body_ids[i]) for i in range(frames)
+        ]
+        self._pelvis_rot = J[3, 3:, 3:6]
+        self._J24, self._Jdot24 = J.reshape(24, m.nv), Jdot.reshape(24, m.nv)
+        self._v24, self._Jd24 = self._v.reshape(24), self._Jd.reshape(24)
+        # PD terms of the frame tasks (4, 6): errors, velocity references, feedforward accelerations
         self._err, self._vref, self._ff = np.zeros((4, 6)), np.zeros((4, 6)), np.zeros((4, 6))
-        self._kp = self._kd = self._w_task = self._task_a = np.zeros((4, 6))
-        self._task_rows: dict[tuple[int, ...], np.ndarray] = {}
+        self._rot_err = [self._err[i, 3:] for i in range(4)]  # written as +e: their gains are -K_p
+        self._sole_quat = [np.zeros(4), np.zeros(4)]
+        for s, sole in enumerate(soles):
+            mujoco.mju_mat2Quat(self._sole_quat[s], sole.rotation.ravel())
+        self._sole_quat_list = [q.tolist() for q in self._sole_quat]
+        self._xquat_soles = [int(sole.body) for sole in soles]
+        self._t = np.zeros(6)  # minus the centroidal targets: -[m cdd_des; -K_L L]
+        self._gain_arrays()
 
     def _gain_arrays(self) -> None:
-        """Per-dof posture weights, CoM gain vectors and the torque-row limits, recomputed when the
-        gains object changes."""
+        """Gain-dependent constants (per-dof posture terms, CoM gains, torque-row limits, frame-task
+        gains and weights), recomputed when the gains object changes."""
         g = self.gains
         if self._cached_gains is g:
             return
-        self._w_posture = np.where(self.arm, g.w_arm_posture, g.w_posture)
-        self._w_diag = np.concatenate([np.zeros(6), self._w_posture]) + g.w_reg_qdd
-        self._com_kp, self._com_kd = np.array(g.com_kp), np.array(g.com_kd)
+        w_post = np.where(self.arm, g.w_arm_posture, g.w_posture)
+        self._w_diag = np.concatenate([np.zeros(6), w_post]) + g.w_reg_qdd
+        # posture on f: -w (K_p (q_ref - q) - K_d qd) = c_q q + c_v qd - c_q q_ref
+        self._post_q, self._post_v = w_post * g.posture_kp, w_post * g.posture_kd
+        self._post_0 = -self._post_q * self.q_posture
+        self._com_kp, self._com_kd = self.mass * np.array(g.com_kp), self.mass * np.array(g.com_kd)
+        self._neg_mass = -self.mass
+        self._weight = np.array([0.0, 0.0, self.mass * self.gravity])
         self._row_lim = np.concatenate([np.zeros(6), self.plant.torque_limit * g.torque_margin])
+        self._neg_row_lim = -self._row_lim
+        self._neg_limit = -self.plant.torque_limit
+        self._neg_kv = -g.stance_kv
+        scale = self.mass * 0.1
+        self._w_cent = np.array([g.w_com / self.mass**2] * 3 + [g.w_angmom / scale**2] * 3)
         sw, up = np.full(6, g.swing_kp), np.full(6, g.torso_kp)
-        self._kp = np.array([sw, sw, up, up])
+        self._kp = np.array([sw, sw, up, up]) * [1.0, 1.0, 1.0, -1.0, -1.0, -1.0]  # position errors are -e
         self._kd = np.array([np.full(6, g.swing_kd)] * 2 + [np.full(6, g.torso_kd)] * 2)
         foot = [g.w_swing] * 3 + [g.w_swing_rot] * 3
         self._w_task = np.array([foot, foot, [0.0] * 3 + [g.w_torso] * 3, [0.0] * 3 + [g.w_pelvis] * 3])
+        self._stances.clear()
         self._cached_gains = g
 
     def _view(self, data: mujoco.MjData) -> _Views:
@@ -145,121 +204,150 @@ class WholeBodyController:
             self._views = _Views(data, self.plant.torso_body, self.plant.pelvis_body)
         return self._views
 
-    # ------------------------------------------------------------------ kinematics helpers
-    def _frames(self, data: mujoco.MjData, vw: _Views) -> _Frames:
-        """Jacobians, velocities and ``Jdot qd`` of the two soles, the torso and the pelvis."""
-        p = self.plant
-        m = p.model
-        J, Jdot = self._J, self._Jdot
-        c0, R0 = p.sole_frame(data, 0)
-        c1, R1 = p.sole_frame(data, 1)
-        points = (c0, c1, vw.torso_pos, vw.pelvis_pos)
-        for i, body in enumerate(self._bodies):
-            mujoco.mj_jac(m, data, J[i, :3], J[i, 3:], points[i], body)
-            mujoco.mj_jacDot(m, data, Jdot[i, :3], Jdot[i, 3:], points[i], body)
-        return _Frames(J, J @ vw.qvel, Jdot @ vw.qvel, np.array([c0, c1]), [R0, R1])
+    def _stance(self, ref: TickReference) -> _Stance:
+        """The stance set of ``ref`` (rebuilt when the gains or the assumed friction change)."""
+        self._gain_arrays()
+        key = (bool(ref.stance[0]), bool(ref.stance[1]))
+        st = self._stances.get(key)
+        if st is None:
+            mu = self.gains.mu
+            cones = self._cones.get(mu)
+            if cones is None:
+                soles = self.plant.soles
+                cones = self._cones[mu] = (SoleCone.of(soles[0].points, mu), SoleCone.of(soles[1].points, mu))
+            lay = QpLayout.build(tuple(s for s in (0, 1) if key[s]), cones, self.nv, self.nu)
+            st = self._stances[key] = _Stance(lay, key, self._w_task, self._w_cent, self.gains.w_reg_f)
+        return st
 
-    def _contact_jacobian(self, stance: tuple[int, ...], fr: _Frames) -> tuple[np.ndarray, np.ndarray]:
-        """Jacobian (3k, nv) of the k contact points of the stance soles and their positions (k, 3):
-        ``J_i = J_lin - [r_i]x J_ang`` with r_i the point's offset from the sole centre."""
-        if not stance:
-            return np.zeros((0, self.nv)), np.zeros((0, 3))
-        rows, points = [], []
-        for s in stance:
-            r = self.plant.soles[s].points @ fr.R[s].T
-            rows.append(fr.J[s, :3] - skew(r) @ fr.J[s, 3:])
-            points.append(fr.centre[s] + r)
-        if len(stance) == 1:
-            return rows[0].reshape(-1, self.nv), points[0]
-        return np.concatenate(rows).reshape(-1, self.nv), np.concatenate(points)
+    # ------------------------------------------------------------------ kinematics
+    def _frames(self, data: mujoco.MjData, vw: _Views) -> None:
+        """Points, sole rotations, Jacobians, velocities and ``Jdot qd`` of the two soles, the torso and
+        the pelvis (one gather of the four bodies' poses, one pass of ``mj_jac``/``mj_jacDot``)."""
+        m = self.plant.model
+        Rb = vw.xmat[self._bodies].reshape(4, 3, 3)
+        np.multiply(Rb, self._offset, out=self._tmp)
+        np.add(vw.xpos[self._bodies], self._tmp.sum(axis=2), out=self._P)
+        if self._sole_rot is None:
+            self._R[:] = Rb[:2]
+        else:
+            np.matmul(Rb[:2], self._sole_rot, out=self._R)
+        if self._free_base:
+            self._pelvis_rot[:] = Rb[3]
+        for jp, jr, dp, dr, point, body in self._jac_args:
+            mujoco.mj_jac(m, data, jp, jr, point, body)
+            mujoco.mj_jacDot(m, data, dp, dr, point, body)
+        np.matmul(self._J24, vw.qvel, out=self._v24)
+        np.matmul(self._Jdot24, vw.qvel, out=self._Jd24)
 
-    def _layout(self, stance: tuple[int, ...]) -> QpLayout:
-        """The QP structure of ``stance`` (rebuilt when the assumed friction changes)."""
-        lay = self._layouts.get(stance)
-        if lay is None or lay.mu != self.gains.mu:
-            lay = self._layouts[stance] = QpLayout.build(stance, self.n_points, self.nv, self.nu, self.gains.mu)
-        return lay
+    def _level_frames(self, feet: slice) -> np.ndarray:
+        """The contact frames G_s (k, 3, 3) of the stance soles ``feet``: z up (the friction cone's axis is
+        the ground's normal, not the sole's: a sole rolling onto its toe or heel, or tilted by the
+        estimate, must not tilt the cone), x the sole's heading ``atan2(R_s[1, 0], R_s[0, 0])``."""
+        x = self._R[feet, :2, 0]
+        n = np.hypot(x[:, 0], x[:, 1])
+        c, s = x[:, 0] / n, x[:, 1] / n
+        G = np.zeros((len(c), 3, 3))
+        G[:, 0, 0], G[:, 0, 1], G[:, 1, 0], G[:, 1, 1], G[:, 2, 2] = c, -s, s, c, 1.0
+        return G
+
+    def task_frames(self, data: mujoco.MjData) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The four task frames (left sole, right sole, torso, pelvis) at the state of ``data`` (after
+        ``mj_forward``), as the QP uses them: Jacobians (4, 6, nv) (linear then angular; the torso's
+        and the pelvis's linear rows are not tasks), ``Jdot qd`` (4, 6), points (4, 3) (sole centres,
+        body origins) and sole rotations (2, 3, 3); copies."""
+        self._frames(data, self._view(data))
+        return self._J.copy(), self._Jd.copy(), self._P.copy(), self._R.copy()
 
     # ------------------------------------------------------------------ tasks
-    def _centroidal_tasks(
-        self, H: np.ndarray, f: np.ndarray, vw: _Views, ref: TickReference, points: np.ndarray, gram: np.ndarray
-    ) -> None:
-        """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact forces, plus
-        their regularisation: the (3k, 3k) force block of the cost."""
-        g = self.gains
-        k, nv = len(points), self.nv
+    def _centroidal_tasks(self, vw: _Views, ref: TickReference, st: _Stance) -> None:
+        """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact wrenches,
+        plus their regularisation: the (6 ns, 6 ns) wrench block of the cost, ``T_w^T W T_w``
+        (:mod:`gaitshift.control.qp_layout`)."""
+        lay, nv = st.lay, self.nv
+        d = self._P[lay.feet] - vw.com
+        lay.skew[:] = (d @ SKEW_BASIS).reshape(-1, 3, 3)
+        lay.reg[:] = st.reg @ lay.B
         # the views are of the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
-        acc_des = ref.com_acc + self._com_kp * (ref.com_pos - vw.com) + self._com_kd * (ref.com_vel - vw.com_vel)
-        acc_des[2] += self.gravity
-        scale = self.mass * 0.1
-        moment = skew(points - vw.com).transpose(1, 0, 2).reshape(3, 3 * k)  # [[r_1]x ... [r_k]x]
-        Hf = (g.w_com / self.mass**2) * gram + (g.w_angmom / scale**2) * (moment.T @ moment)
-        Hf.flat[:: 3 * k + 1] += g.w_reg_f
-        H[nv:, nv:] = Hf
-        f[nv:] = moment.T @ ((g.w_angmom * g.angmom_kd / scale**2) * vw.L)
-        f[nv:].reshape(k, 3)[:] -= (g.w_com / self.mass) * acc_des
+        t = self._t  # minus the targets of the first six rows: -[m cdd_des; -K_L L]
+        t[:3] = (
+            self._neg_mass * ref.com_acc
+            + self._com_kp * (vw.com - ref.com_pos)
+            + self._com_kd * (vw.com_vel - ref.com_vel)
+            - self._weight
+        )
+        np.multiply(vw.L, self.gains.angmom_kd, out=t[3:])
+        Tw = lay.Tw.T * st.w_wrench
+        np.matmul(Tw, lay.Tw, out=lay.H[nv:, nv:])
+        np.matmul(Tw[:, :6], t, out=lay.f[nv:])
 
-    def _motion_rows(self, vw: _Views, ref: TickReference, fr: _Frames) -> np.ndarray:
-        """Swing-foot pose and torso and pelvis orientation: the PD targets of the four frames,
-        ``a = K_p e + K_d (v_ref - J qd) - Jdot qd + a_ff`` (4, 6), and the indices of the rows in use
-        among the 24 frame rows (position and orientation of the swing soles, orientation of the torso
-        and the pelvis)."""
-        stance = (bool(ref.stance[0]), bool(ref.stance[1]))
-        rows = self._task_rows.get(stance)
-        if rows is None:
-            swing = [r for s in (0, 1) if not stance[s] for r in range(6 * s, 6 * s + 6)]
-            rows = self._task_rows[stance] = np.array([*swing, 15, 16, 17, 21, 22, 23])
+    def _motion_targets(self, vw: _Views, ref: TickReference, st: _Stance) -> np.ndarray:
+        """Swing-foot pose and torso and pelvis orientation: minus the PD targets of the four frames,
+        ``-a = -K_p e - K_d (v_ref - J qd) + Jdot qd - a_ff`` (4, 6)."""
         err, vref, ff = self._err, self._vref, self._ff
-        err[:2, :3] = ref.foot_pos - fr.centre
-        vref[:2, :3] = ref.foot_vel
-        vref[:2, 5] = ref.yaw_rate
+        if st.swing:
+            np.subtract(self._P[:2], ref.foot_pos, out=err[:2, :3])  # -e
+            vref[:2, :3] = ref.foot_vel
+            vref[:2, 5] = ref.yaw_rate
+            ff[:2, :3] = ref.foot_acc
+        for s in st.swing:  # sole on terrain
+            w, x, y, z = self._sole_quaternion(vw, s)
+            self._rot_err[s][:] = quat_yaw_error(float(ref.yaw[s]), float(ref.foot_pitch[s]), w, x, y, z)
         vref[2:, 5] = ref.torso_yaw_rate
-        ff[:2, :3] = ref.foot_acc
-        for s in (0, 1):
-            if not stance[s]:
-                quat = np.empty(4)
-                mujoco.mju_mat2Quat(quat, fr.R[s].ravel())
-                err[s, 3:] = yaw_error(ref.yaw[s], quat, ref.foot_pitch[s])  # sole on terrain
-        err[2, 3:] = yaw_error(ref.torso_yaw, vw.torso_quat)
-        err[3, 3:] = yaw_error(ref.torso_yaw, vw.pelvis_quat)
-        self._task_a = self._kp * err + self._kd * (vref - fr.v) - fr.Jd + ff
-        return rows
+        yaw = float(ref.torso_yaw)
+        self._rot_err[2][:] = quat_yaw_error(yaw, 0.0, *vw.torso_quat.tolist())
+        self._rot_err[3][:] = quat_yaw_error(yaw, 0.0, *vw.pelvis_quat.tolist())
+        a: np.ndarray = self._kp * err + self._kd * (self._v - vref) + self._Jd - ff
+        return a
 
-    def _motion_tasks(self, H: np.ndarray, f: np.ndarray, vw: _Views, fr: _Frames, rows: np.ndarray) -> None:
+    def _sole_quaternion(self, vw: _Views, s: int) -> tuple[float, float, float, float]:
+        """Unit quaternion (w, x, y, z) of sole s: its body's, times the sole's rotation in the body."""
+        a, b, c, d = vw.xquat[self._xquat_soles[s]].tolist()
+        w, x, y, z = self._sole_quat_list[s]
+        return (
+            a * w - b * x - c * y - d * z,
+            a * x + b * w + c * z - d * y,
+            a * y - b * z + c * w + d * x,
+            a * z + b * y - c * x + d * w,
+        )
+
+    def _motion_tasks(self, vw: _Views, ref: TickReference, st: _Stance) -> None:
         """The (nv, nv) qdd block of the cost: the stacked task rows, posture (joint PD toward the
         standing pose) and regularisation on the diagonal."""
-        g = self.gains
-        nv = self.nv
-        J, w = fr.J.reshape(24, nv)[rows], self._w_task.ravel()[rows]
-        Jw = J.T * w
-        Hq = Jw @ J
-        Hq.flat[:: nv + 1] += self._w_diag
-        H[:nv, :nv] = Hq
-        a_post = g.posture_kp * (self.q_posture - vw.qpos[7:]) - g.posture_kd * vw.qvel[6:]
-        f[:nv] = Jw @ self._task_a.ravel()[rows]
-        f[6:nv] += self._w_posture * a_post
-        f[:nv] *= -1.0
+        lay, nv = st.lay, self.nv
+        a = self._motion_targets(vw, ref, st)
+        Jr = self._J24[st.rows]
+        Jw = Jr.T * st.w_rows
+        np.matmul(Jw, Jr, out=lay.H[:nv, :nv])
+        lay.H_diag += self._w_diag
+        fq = lay.f[:nv]
+        np.matmul(Jw, a.ravel()[st.rows], out=fq)
+        fq[6:] += self._post_q * vw.qpos[7:] + self._post_v * vw.qvel[6:] + self._post_0
 
     # ------------------------------------------------------------------ constraints
-    def _constraints(self, lay: QpLayout, h: np.ndarray, Jc: np.ndarray, fr: _Frames, ref: TickReference) -> None:
-        """Refill the changing rows of ``lay``: floating-base dynamics and torque limits (one block,
-        ``[M, -Jc^T]`` at the base and actuated dofs), non-sliding feet, force caps
+    def _constraints(self, st: _Stance, h: np.ndarray, ref: TickReference) -> None:
+        """Refill the changing rows of the layout: floating-base dynamics and torque limits (one block,
+        ``[M, -J_feet^T]`` at the base and actuated dofs), non-sliding feet, wrench cones, force caps
         (:mod:`gaitshift.control.qp_layout`)."""
-        nv, A = self.nv, lay.A
+        lay, nv = st.lay, self.nv
+        A = lay.A
         r = slice(0, lay.rows["torque"].stop)
         A[r, :nv] = self.M[self._dofs]
-        np.negative(Jc.T[self._dofs], out=A[r, nv:])
         h_rows = h[self._dofs]
         np.subtract(self._row_lim, h_rows, out=lay.up["dynamics+torque"])
-        np.subtract(-self._row_lim, h_rows, out=lay.lo["dynamics+torque"])
-        if lay.stance:
-            lay.up["cap"][:] = ref.fz_max[lay.feet]
-            A[lay.rows["feet"], :nv] = fr.J[lay.feet].reshape(-1, nv)
-            b = (-fr.Jd[lay.feet] - self.gains.stance_kv * fr.v[lay.feet]).ravel()
-            lay.up["feet"][:] = b
-            lay.lo["feet"][:] = b
+        np.subtract(self._neg_row_lim, h_rows, out=lay.lo["dynamics+torque"])
+        if not lay.stance:
+            return
+        Jf = self._J[lay.feet].reshape(-1, nv)
+        np.negative(Jf.T[self._dofs], out=A[r, nv:])
+        A[lay.rows["feet"], :nv] = Jf
+        b = lay.up["feet"]
+        np.multiply(self._v[lay.feet].ravel(), self._neg_kv, out=b)
+        b -= self._Jd[lay.feet].ravel()
+        lay.lo["feet"][:] = b
+        lay.bu[lay.cap] = ref.fz_max[lay.feet]
+        lay.cone[:] = st.faces @ lay.B
 
-    def _knee_bounds(self, vw: _Views, ref: TickReference, lay: QpLayout) -> None:
+    def _knee_bounds(self, vw: _Views, st: _Stance) -> None:
         """Bounds on the knees' accelerations that keep them ``limit_margin`` inside their range over
         ``limit_horizon`` s: ``q + v T + a T^2 / 2`` within the range. Without them the trailing knee of
         a fast running swing is driven straight into its limit just after lift-off (docs/simulation.md,
@@ -270,22 +358,25 @@ class WholeBodyController:
         (docs/simulation.md, "What decides it")."""
         g = self.gains
         T = g.limit_horizon
+        lo_x, up_x = st.lay.lo["x"], st.lay.up["x"]
         for s in (0, 1):
-            drift = float(vw.qpos[self.knee_qadr[s]]) + float(vw.qvel[self.knee_dofs[s]]) * T
-            lo = 2.0 * (float(self.knee_range[s, 0]) + g.limit_margin - drift) / T**2
-            hi = 2.0 * (float(self.knee_range[s, 1]) - g.limit_margin - drift) / T**2
-            if ref.stance[s]:  # the straight knee is the end of the range nearer 0
-                lo, hi = (lo, INF) if abs(self.knee_range[s, 0]) <= abs(self.knee_range[s, 1]) else (-INF, hi)
-            lay.lo["x"][self.knee_dofs[s]], lay.up["x"][self.knee_dofs[s]] = min(lo, hi), max(lo, hi)
+            dof, (q_lo, q_hi) = self._knee[s]
+            drift = float(vw.qpos[self.knee_qadr[s]]) + float(vw.qvel[dof]) * T
+            lo = 2.0 * (q_lo + g.limit_margin - drift) / T**2
+            hi = 2.0 * (q_hi - g.limit_margin - drift) / T**2
+            if s not in st.swing:  # the straight knee is the end of the range nearer 0
+                lo, hi = (lo, INF) if abs(q_lo) <= abs(q_hi) else (-INF, hi)
+            lo_x[dof], up_x[dof] = min(lo, hi), max(lo, hi)
 
-    def _free_knees(self, lay: QpLayout) -> None:
-        """No bounds on the knee accelerations."""
-        for dof in self.knee_dofs:
-            lay.lo["x"][dof], lay.up["x"][dof] = -INF, INF
+    def _free_knees(self, st: _Stance) -> None:
+        """No bounds on the knees' accelerations."""
+        lo_x, up_x = st.lay.lo["x"], st.lay.up["x"]
+        for dof, _ in self._knee:
+            lo_x[dof], up_x[dof] = -INF, INF
 
-    def _solve(self, H: np.ndarray, f: np.ndarray, lay: QpLayout) -> np.ndarray | None:
+    def _solve(self, lay: QpLayout) -> np.ndarray | None:
         """The QP solution x, or None (:func:`gaitshift.control.qp_terms.solve_qp`)."""
-        x, self.last_solver = solve_qp(H, f, lay.A, lay.bu, lay.bl, lay.sense)
+        x, self.last_solver = solve_qp(lay.H, lay.f, lay.A, lay.bu, lay.bl, lay.sense)
         return x  # type: ignore[no-any-return]
 
     # ------------------------------------------------------------------ the QP
@@ -297,40 +388,33 @@ class WholeBodyController:
         vw = self._view(data)
         mujoco.mj_fullM(p.model, data, self.M)
         h = vw.bias - vw.passive
-        stance = tuple(s for s in (0, 1) if ref.stance[s])
-        lay = self._layout(stance)
-        H = np.zeros((lay.n, lay.n))
-        f = np.zeros(lay.n)
-        self._gain_arrays()
-        fr = self._frames(data, vw)
-        Jc, points = self._contact_jacobian(stance, fr)
-        if len(points):
-            self._centroidal_tasks(H, f, vw, ref, points, lay.gram_f)
-        self._motion_tasks(H, f, vw, fr, self._motion_rows(vw, ref, fr))
-        self._constraints(lay, h, Jc, fr, ref)
+        st = self._stance(ref)
+        lay = st.lay
+        self._frames(data, vw)
+        if lay.stance:
+            lay.B_blocks[:] = self._level_frames(lay.feet)[:, None].transpose(0, 1, 3, 2)  # B = diag(G_s^T, ...)
+            self._centroidal_tasks(vw, ref, st)
+        self._motion_tasks(vw, ref, st)
+        self._constraints(st, h, ref)
         x = None
         if self.gains.limit_horizon > 0:  # with the knee-limit bounds, then without if infeasible
-            self._knee_bounds(vw, ref, lay)
-            x = self._solve(H, f, lay)
-            self._free_knees(lay)
+            self._knee_bounds(vw, st)
+            x = self._solve(lay)
+            self._free_knees(st)
         if x is None:
-            x = self._solve(H, f, lay)
+            x = self._solve(lay)
         info = TickInfo(ok=x is not None, solver=self.last_solver)
-        Sa = p.actuated_dofs
         if x is None:
             # infeasible: drop the stance and torque constraints' coupling, keep posture (safe fallback)
             lim = p.torque_limit * self.gains.torque_margin
             qj, vj = vw.qpos[7:], vw.qvel[6:]
-            tau = np.clip(self.gains.posture_kp * 0.5 * (self.q_posture - qj) - 2.0 * vj + h[Sa], -lim, lim)
+            tau = np.clip(self.gains.posture_kp * 0.5 * (self.q_posture - qj) - 2.0 * vj + h[self._act], -lim, lim)
             return tau, info
-        qdd, fc = x[:nv], x[nv:]
-        tau = lay.A[lay.rows["torque"]] @ x + h[Sa]  # M_a qdd + h_a - J_a^T f
-        forces = np.zeros((2, 3))
-        start = 0
-        for s in stance:
-            k = self.n_points[s]
-            forces[s] = fc[3 * start : 3 * (start + k)].reshape(k, 3).sum(axis=0)
-            start += k
-        info.forces = forces
-        info.qdd, info.contact_forces, info.contact_jacobian = qdd, fc, Jc
-        return np.minimum(np.maximum(tau, -p.torque_limit), p.torque_limit), info
+        tau = lay.A_torque @ x  # M_a qdd - J_a^T w
+        tau += h[self._act]
+        w = x[nv:]
+        info.forces[lay.feet] = w.reshape(-1, 6)[:, :3]
+        info.qdd, info.contact_wrenches = x[:nv], w
+        info.contact_jacobian = self._J[lay.feet].reshape(-1, nv).copy()
+        np.maximum(tau, self._neg_limit, out=tau)
+        return np.minimum(tau, p.torque_limit, out=tau), info

@@ -123,5 +123,5 @@ class TickInfo:
     solver: str = "daqp"
     forces: np.ndarray = field(default_factory=lambda: np.zeros((2, 3)))
     qdd: np.ndarray | None = None
-    contact_forces: np.ndarray | None = None  # (3k,) world-frame point forces
-    contact_jacobian: np.ndarray | None = None  # (3k, nv)
+    contact_wrenches: np.ndarray | None = None  # (6 ns,) [F; tau] per stance sole, about its centre, world frame
+    contact_jacobian: np.ndarray | None = None  # (6 ns, nv) the stance soles' frame Jacobians
