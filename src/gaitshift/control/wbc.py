@@ -105,6 +105,8 @@ class WholeBodyController:
         self.knee_dofs = plant.actuated_dofs[knees]
         self.knee_qadr = m.jnt_qposadr[m.dof_jntid[self.knee_dofs]]
         self.knee_range = m.jnt_range[m.dof_jntid[self.knee_dofs]]
+        # per knee: its straight end is the lower end of its range (the end nearer 0), for the stance bound
+        self._straight_low = [bool(abs(lo) <= abs(hi)) for lo, hi in self.knee_range]
         self.mass = plant.mass
         self.gravity = -float(m.opt.gravity[2])
         self.last_solver = "daqp"
@@ -275,7 +277,7 @@ class WholeBodyController:
             lo = 2.0 * (float(self.knee_range[s, 0]) + g.limit_margin - drift) / T**2
             hi = 2.0 * (float(self.knee_range[s, 1]) - g.limit_margin - drift) / T**2
             if ref.stance[s]:  # the straight knee is the end of the range nearer 0
-                lo, hi = (lo, INF) if abs(self.knee_range[s, 0]) <= abs(self.knee_range[s, 1]) else (-INF, hi)
+                lo, hi = (lo, INF) if self._straight_low[s] else (-INF, hi)
             lay.lo["x"][self.knee_dofs[s]], lay.up["x"][self.knee_dofs[s]] = min(lo, hi), max(lo, hi)
 
     def _free_knees(self, lay: QpLayout) -> None:
