@@ -155,7 +155,8 @@ class _Run:
         height = float(traj.meta.get("height", traj.com_pos[0, 2]))
         limits = StepLimits.from_plant(plant, height, opts.capture.reach_fraction)
         half = np.asarray(traj.meta.get("foot_size", (0.0, 0.0)), float) / 2
-        room = CopRoom.from_plant(plant, self.d, (float(half[0]), float(half[1])))
+        sole = (float(half[0]), float(half[1]))
+        room = CopRoom.from_plant(plant, self.d, sole) if opts.capture.cop_room else sole
         omega = math.sqrt(traj.gravity / height)
         self.shift = PlanShift(opts.capture, omega, limits, room, plant.mass * traj.gravity)
         self.sensor = ContactSensor(plant)
@@ -193,7 +194,8 @@ class _Run:
         progress = np.array([sched.swing_progress(tp, s) for s in (0, 1)])
         left = np.maximum(sched.swing_end - tp, 0.0), float(self.plan.heading[i])
         stance_left = np.where(sched.stance, np.maximum(sched.lift_at - tp, 0.0), 0.0)
-        ctx = SwingContext(planned, measured, *left, stance_left, partial(self.load_factor, tp, i))
+        load = partial(self.load_factor, tp, i) if shift.cop is not None else None  # only the CoP room uses it
+        ctx = SwingContext(planned, measured, *left, stance_left, load)
         shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i], ctx)
         pos_std = 0.0 if self.plan.terrain.flat else self.sensing.position_std()
         ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.opts.swing, pos_std)

@@ -43,6 +43,7 @@ import math
 
 import numpy as np
 
+from gaitshift.control.estimation.types import FLAG_PAIRS
 from gaitshift.errors import InputError
 
 #: |dz| below this is "at the ground level", m: ~3 std of the relative height of two soles in the
@@ -113,7 +114,7 @@ class ContactFusion:
         loaded_l, loaded_r = left and forces[0] > on, right and forces[1] > on
         if loaded_l or loaded_r:
             self.ground = (heights[0] + heights[1]) / 2 if loaded_l and loaded_r else heights[0 if loaded_l else 1]
-        return _FLAGS[left, right]
+        return FLAG_PAIRS[left, right]
 
     def _sole(self, i: int, f: float, height: float, v: float, plan: bool, has_plan: bool) -> bool:
         """The rules of the module docstring for sole ``i``: its new flag."""
@@ -137,9 +138,3 @@ class ContactFusion:
             self._cusum[i] = 0.0
         self._state[i] = on
         return on
-
-
-#: the four flag pairs, returned read-only (shared between ticks)
-_FLAGS = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
-for _flags in _FLAGS.values():
-    _flags.flags.writeable = False

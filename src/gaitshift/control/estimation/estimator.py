@@ -54,6 +54,7 @@ from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.slip import SlipDetector
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import (
+    FLAG_PAIRS,
     EstimatedState,
     FootForces,
     ImuReading,
@@ -133,11 +134,6 @@ class StateEstimator:
         self._axes_are_base = self.kinematics.imu_axes_are_base
         self.slip = SlipDetector(dt, slip_speed, slip_tau, sole_points)
         self._tick_rot, self._tick_feet_rot = np.eye(3), np.zeros((2, 3, 3))  # this tick's R and sole rotations
-        self._stance = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
-        self._slip_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
-        self._stance_flags = {key: np.array(key) for key in self._stance}  # returned: read-only
-        for flags in [*self._slip_flags.values(), *self._stance_flags.values()]:
-            flags.flags.writeable = False
         self._points_aug = self.kinematics.points_aug  # (8, 5): [y, 0, 1; dy/dt + w x y, 1, 0]
         self._rel = self._points_aug[4:8, 0:3]
         self._affine = np.zeros((5, 3))
@@ -195,7 +191,7 @@ class StateEstimator:
         q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
         moving = self.slip.moving  # soles whose centre moved (slide or pivot) drop out of the filter
-        stance = self._stance[left and not moving[0], right and not moving[1]]
+        stance = FLAG_PAIRS[left and not moving[0], right and not moving[1]]
         rot, vp, omega, cov_trace = self.filter.advance(imu, kin.feet, stance, self.dt)
         y = kin.points
         np.dot(omega, SKEW, self._omega_skew9)
@@ -207,7 +203,7 @@ class StateEstimator:
         rows = xv_w.tolist()
         self._tick_rot, self._tick_feet_rot = rot, kin.feet.rot
         rates = np.concatenate((omega, qd))
-        slip = self._slip_flags[self.slip.update((left, right), rows[4:6], rates, self._sole_twist)]
+        slip = FLAG_PAIRS[self.slip.update((left, right), rows[4:6], rates, self._sole_twist)]
         heights = self._lowest(rot[2].dot(kin.feet.rot).tolist(), rows)
         fused = self.fusion.update_values(normal, heights, [rows[4][2], rows[5][2]], planned)
         quat = np.empty(4)
@@ -225,7 +221,7 @@ class StateEstimator:
             q,
             qd,
             fused,
-            self._stance_flags[left, right],
+            FLAG_PAIRS[left, right],
             slip,
             xv_w[4:6],
             xv_w[2],

@@ -21,6 +21,12 @@ import numpy as np
 from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.lie import mat_of_quat
 
+#: the four (left, right) flag pairs as shared read-only arrays (2,) bool, keyed by the pair: the
+#: per-tick contact, stance and slip flags the estimator returns (no array built per tick)
+FLAG_PAIRS = {(a, b): np.array([a, b]) for a in (False, True) for b in (False, True)}
+for _flags in FLAG_PAIRS.values():
+    _flags.flags.writeable = False
+
 
 @dataclass(frozen=True, slots=True)
 class ImuReading:
