@@ -21,7 +21,14 @@ a finite-sized foot, eq. 9), so an error |e| > d grows and a smaller one is take
 
     |e(tau)| = max(0, |e| exp(omega tau) - d (exp(omega tau) - 1)),   sign kept,
 
-which is the plain exp(omega tau) for d = 0 and the current error for tau = 0. ``d`` is the CoP's room:
+which is the plain exp(omega tau) for d = 0 and the current error for tau = 0. Both are the LIPM's
+divergent component with the CoP held at an offset ``c`` from the planned ZMP over ``tau``,
+
+    e(tau) = e exp(omega tau) - c (exp(omega tau) - 1),   per heading axis, 0 once it would change sign
+
+(:func:`dcm_error_after`), with ``c = d sign e``. By default (``commanded_cop``) ``c`` is the offset the
+whole-body controller gave the stance sole's CoP on its last tick (:meth:`TickInfo.cop_offset`), held
+over ``tau``: the ankle is expected to keep doing what it does, not to go to its edge. ``d`` is the CoP's room:
 the sole's half size, or less where the leg's motors cannot hold the moment at the load the plan puts
 on the sole over ``tau`` (:mod:`gaitshift.control.cop_room`: the T1's 20 N m ankles). Without it the step
 correction and the controller's CoP both act on the same error, the foot is over-corrected by what the
@@ -71,6 +78,22 @@ class CaptureSettings:
     # docstring). Off by default: it holds g1-stairs-down on seeds 0-5 but g1-walk-run-walk then falls on
     # a 0.4 friction floor (8.70 s estimated, 8.85 s oracle; docs/simulation.md, "What decides it")
     cop_room: bool = False
+    # the predicted error leaves to the stance sole the CoP offset the whole-body controller commanded on
+    # its last tick (module docstring; cop_room takes precedence). On: g1-stairs-down holds on seeds 0, 1,
+    # 3, 4, 5 with a 0.21-0.25 m final stance (off: 0 and 5, the last stance up to 0.57 m wide)
+    commanded_cop: bool = True
+
+
+def dcm_error_after(err: np.ndarray, growth: float, cop: np.ndarray, yaw: float) -> np.ndarray:
+    """Divergent-component error (2,) m after ``growth`` = exp(omega tau) >= 1 with the CoP held at the
+    offset ``cop`` (2,) m from the planned ZMP (module docstring): ``e'= omega (e - c)`` integrated,
+    per axis of the heading frame (heading ``yaw``, rad), and 0 on an axis where it would change sign.
+    ``err``, ``cop`` and the result are world-frame."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    rot = np.array([[c, -s], [s, c]])
+    e, off = rot.T @ err, rot.T @ cop
+    after = e * growth - off * (growth - 1.0)
+    return np.asarray(rot @ np.where(after * e > 0.0, after, 0.0))
 
 
 def predicted_error(err: np.ndarray, growth: float, room: np.ndarray, yaw: float) -> np.ndarray:
@@ -78,11 +101,15 @@ def predicted_error(err: np.ndarray, growth: float, room: np.ndarray, yaw: float
     stance sole's CoP at its edge (module docstring): ``err`` (2,) m in the world frame, ``room`` (2,)
     m how far the CoP can move along and across the sole (:class:`CopRoom`; its heading ``yaw``, rad).
     Returns (2,) m, world frame."""
+    return dcm_error_after(err, growth, edge_offset(err, room, yaw), yaw)
+
+
+def edge_offset(err: np.ndarray, room: np.ndarray, yaw: float) -> np.ndarray:
+    """The CoP offset (2,) m, world frame, at the edge of the ``room`` (2,) m (half sizes along and
+    across a sole of heading ``yaw``, rad) on the side of the error ``err`` (2,) m, per axis."""
     c, s = math.cos(yaw), math.sin(yaw)
     rot = np.array([[c, -s], [s, c]])
-    e = rot.T @ err
-    e = np.sign(e) * np.maximum(np.abs(e) * growth - room * (growth - 1.0), 0.0)
-    return np.asarray(rot @ e)
+    return np.asarray(rot @ (np.sign(rot.T @ err) * room))
 
 
 def capture_point_offset(
@@ -116,6 +143,8 @@ class SwingContext:
         stance_left: (2,) s, time to each stance foot's planned lift-off (>= 0; 0 for a swinging foot).
         load_factor: the plan's mean vertical force over the next ``tau`` s in units of the weight,
             ``1 + (zd(t + tau) - zd(t)) / (g tau)`` (:mod:`gaitshift.control.cop_room`); None: 1.
+        cop: the CoP offset (2,) m, world frame, the controller gave a stance sole on its last tick
+            (:meth:`gaitshift.control.wbc_data.TickInfo.cop_offset`; None: none known).
     """
 
     footholds: np.ndarray
@@ -124,6 +153,7 @@ class SwingContext:
     yaw: float
     stance_left: np.ndarray | None = None
     load_factor: Callable[[float], float] | None = None
+    cop: Callable[[int], np.ndarray | None] | None = None
 
     def growth_time(self, side: int, stance: np.ndarray) -> float:
         """tau of the module docstring for the swinging foot ``side``, s."""
@@ -194,6 +224,20 @@ class PlanShift:
         """One step ``dt`` (s) of the lag of ``shift`` toward ``target``."""
         self.shift += (self.target - self.shift) * min(1.0, dt / self.settings.shift_time)
 
+    def _held_cop(self, side: int, tau: float, err: np.ndarray, ctx: SwingContext | None) -> np.ndarray | None:
+        """The CoP offset (2,) m (world frame) the stance sole ``side`` is expected to hold for ``tau`` s
+        against the divergent-component error ``err`` (2,) m (module docstring): with ``cop_room`` at the
+        edge of its room toward the error, else the one the controller commanded (``commanded_cop``);
+        None: the plain exp(omega tau) (no stance ahead, or neither setting)."""
+        if ctx is None or tau <= 0.0:
+            return None
+        if self.cop is not None:
+            load = ctx.load_factor(tau) if ctx.load_factor is not None else 1.0
+            return edge_offset(err, self.cop.at(max(load, 0.1) * self.weight), ctx.yaw)
+        if self.settings.commanded_cop and ctx.cop is not None:
+            return ctx.cop(side)
+        return None
+
     def correct_swings(
         self,
         stance: np.ndarray,
@@ -220,16 +264,13 @@ class PlanShift:
                 continue
             tau = ctx.growth_time(s, stance) if cfg.predict_touchdown and ctx is not None else 0.0
             growth = math.exp(self.omega * tau)
-            if ctx is not None and tau > 0.0 and self.cop is not None:
-                load = ctx.load_factor(tau) if ctx.load_factor is not None else 1.0
-                room = self.cop.at(max(load, 0.1) * self.weight)
-                err = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, 1.0, math.inf)
-                delta = np.zeros(3)
-                delta[:2] = np.clip(cfg.gain * predicted_error(err[:2], growth, room, ctx.yaw), -clip, clip)
+            err = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, 1.0, math.inf)
+            cop = self._held_cop(1 - s, tau, err[:2], ctx)
+            delta = np.zeros(3)
+            if cop is not None and ctx is not None:
+                delta[:2] = np.clip(cfg.gain * dcm_error_after(err[:2], growth, cop, ctx.yaw), -clip, clip)
             else:
-                delta = capture_point_offset(
-                    com, com_vel, com_plan + self.target, vel_plan, self.omega, cfg.gain * growth, clip
-                )
+                delta[:2] = np.clip(cfg.gain * growth * err[:2], -clip, clip)
             if self.limits is not None and ctx is not None:
                 base = ctx.footholds[s] + self.shift
                 o = 1 - s

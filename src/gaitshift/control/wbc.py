@@ -414,7 +414,7 @@ class WholeBodyController:
         tau += h[self._act]
         w = x[nv:]
         info.forces[lay.feet] = w.reshape(-1, 6)[:, :3]
-        info.qdd, info.contact_wrenches = x[:nv], w
+        info.qdd, info.contact_wrenches, info.stance = x[:nv], w, lay.stance
         info.contact_jacobian = self._J[lay.feet].reshape(-1, nv).copy()
         np.maximum(tau, self._neg_limit, out=tau)
         return np.minimum(tau, p.torque_limit, out=tau), info

@@ -125,3 +125,17 @@ class TickInfo:
     qdd: np.ndarray | None = None
     contact_wrenches: np.ndarray | None = None  # (6 ns,) [F; tau] per stance sole, about its centre, world frame
     contact_jacobian: np.ndarray | None = None  # (6 ns, nv) the stance soles' frame Jacobians
+    stance: tuple[int, ...] = ()  # the stance soles of ``contact_wrenches``, in order (0 left, 1 right)
+
+    def cop_offset(self, side: int) -> np.ndarray | None:
+        """Where the solved contact wrench of sole ``side`` puts its centre of pressure, (2,) m, world
+        frame, from the sole centre: the point of the sole plane about which the wrench's horizontal
+        moment vanishes, ``(-tau_y / F_z, tau_x / F_z)`` for ``[F; tau]`` about the centre (a sole
+        plane through its centre, level). None when ``side`` is not a stance sole of this solve or
+        carries no load."""
+        if self.contact_wrenches is None or side not in self.stance:
+            return None
+        w = self.contact_wrenches[6 * self.stance.index(side) : 6 * self.stance.index(side) + 6]
+        if w[2] <= 0.0:
+            return None
+        return np.array([-w[4] / w[2], w[3] / w[2]])

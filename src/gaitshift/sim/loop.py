@@ -42,7 +42,7 @@ from gaitshift.control.reference import SwingSettings, tick_reference
 from gaitshift.control.schedule import FootScheduler, ScheduleSettings
 from gaitshift.control.step_limits import StepLimits
 from gaitshift.control.wbc import WholeBodyController
-from gaitshift.control.wbc_data import Gains, gains_for
+from gaitshift.control.wbc_data import Gains, TickInfo, gains_for
 from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig
 from gaitshift.sim.bumps import Bump, check_bumps
@@ -159,6 +159,7 @@ class _Run:
         room = CopRoom.from_plant(plant, self.d, sole) if opts.capture.cop_room else sole
         omega = math.sqrt(traj.gravity / height)
         self.shift = PlanShift(opts.capture, omega, limits, room, plant.mass * traj.gravity)
+        self.last_info = TickInfo()  # the controller's last solve: the stance soles' CoP (commanded_cop)
         self.sensor = ContactSensor(plant)
         end = replanner.duration_bound if replanner is not None else float(traj.t[-1])
         self.n_ticks = round((end + opts.settle) / self.dt) + 1
@@ -195,12 +196,13 @@ class _Run:
         left = np.maximum(sched.swing_end - tp, 0.0), float(self.plan.heading[i])
         stance_left = np.where(sched.stance, np.maximum(sched.lift_at - tp, 0.0), 0.0)
         load = partial(self.load_factor, tp, i) if shift.cop is not None else None  # only the CoP room uses it
-        ctx = SwingContext(planned, measured, *left, stance_left, load)
+        ctx = SwingContext(planned, measured, *left, stance_left, load, self.last_info.cop_offset)
         shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i], ctx)
         pos_std = 0.0 if self.plan.terrain.flat else self.sensing.position_std()
         ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.opts.swing, pos_std)
         self.ctrl.gains = self.sensing.friction(self.ctrl.gains, view)
         tau, info = self.ctrl.compute(c, ref)
+        self.last_info = info
         tau = self.sensing.actuate(d, tau, info.qdd)  # the only write to the plant, with the push
         push = self.push[k] if k < len(self.push) else np.zeros(3)
         d.xfrc_applied[self.plant.pelvis_body, :3] = push
