@@ -15,6 +15,7 @@ from gaitshift.control.feedback import (
     PlanShift,
     SwingContext,
     capture_point_offset,
+    dcm_error_after,
     predicted_error,
 )
 
@@ -124,3 +125,49 @@ def test_an_error_the_stance_sole_can_take_back_moves_no_foothold():
         shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
     np.testing.assert_array_equal(with_room.offset[0], [0.0, 0.0, 0.0])
     assert without.offset[0][1] == pytest.approx(0.01 * np.exp(omega * 0.2))
+
+
+def test_dcm_error_after_is_the_lipm_divergent_component_with_the_cop_held_at_an_offset():
+    """e' = omega (e - c) per heading axis with the CoP held at the offset c, integrated with small
+    explicit Euler steps and stopped at 0, against dcm_error_after's closed form: an offset on the
+    error's side takes it back (to 0 when large enough), one on the other side makes it grow faster
+    than exp(omega tau), and c = 0 is the plain exp(omega tau)."""
+    omega, tau, yaw = 4.0, 0.25, -0.7
+    rot = np.array([[np.cos(yaw), -np.sin(yaw)], [np.sin(yaw), np.cos(yaw)]])
+    local = np.array([[0.05, -0.03], [0.02, 0.01], [-0.04, 0.0]])
+    cops = np.array([[0.02, 0.015], [0.05, -0.01], [0.0, 0.02]])
+    e, n = local.copy(), 20_000
+    for _ in range(n):
+        moved = e + (tau / n) * omega * (e - cops)
+        e = np.where(np.sign(moved) == np.sign(e), moved, 0.0)
+    g = np.exp(omega * tau)
+    assert e[1, 0] == 0.0 and abs(e[0, 1]) > 0.03 * g and 0 < e[0, 0] < 0.05 * g  # back to 0, faster, slower
+    for k in range(len(local)):
+        got = dcm_error_after(rot @ local[k], g, rot @ cops[k], yaw)
+        np.testing.assert_allclose(got, rot @ e[k], atol=1e-5)
+    np.testing.assert_allclose(dcm_error_after(rot @ local[0], g, np.zeros(2), yaw), rot @ local[0] * g, rtol=1e-12)
+
+
+def test_the_commanded_cop_is_what_the_touchdown_prediction_leaves_to_the_stance_sole():
+    """With ``commanded_cop`` the swinging foot's correction is dcm_error_after with the CoP offset the
+    controller reports for the stance sole; without one known (or the setting off) it is the plain
+    k (xi - xi_ref) exp(omega tau)."""
+    omega, tau = 4.0, 0.2
+    footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
+    com, zero, vel = np.array([0.1, 0.0, 0.6]), np.zeros(3), np.array([0.02, 0.04, 0.0])
+    cop = np.array([0.004, 0.006])
+    seen = []
+
+    def reported(side):
+        seen.append(side)
+        return cop
+
+    ctx = SwingContext(footholds, footholds.copy(), np.array([tau, 0.0]), 0.0, np.array([0.0, 0.5]), None, reported)
+    on = PlanShift(CaptureSettings(kinematic_limits=False), omega=omega)
+    off = PlanShift(CaptureSettings(kinematic_limits=False, commanded_cop=False), omega=omega)
+    for shift in (on, off):
+        shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
+    err = vel[:2] / omega
+    np.testing.assert_allclose(on.offset[0][:2], dcm_error_after(err, np.exp(omega * tau), cop, 0.0), atol=1e-15)
+    np.testing.assert_allclose(off.offset[0][:2], err * np.exp(omega * tau), atol=1e-15)
+    assert seen == [1]  # asked for the stance sole's CoP, once

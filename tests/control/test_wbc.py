@@ -80,6 +80,24 @@ def test_single_support_puts_all_force_on_the_stance_foot_under_its_cap():
     assert np.all(info.forces[1] == 0.0)
 
 
+def test_the_reported_cop_is_the_centre_of_pressure_of_the_point_forces_that_exert_the_wrench():
+    """TickInfo.cop_offset against the centre of pressure sum r_i f_iz / sum f_iz of point forces (in
+    their pyramids, by NNLS) exerting the solved wrench, horizontal, from the sole centre; None for the
+    swinging sole."""
+    plant, d, q0, feet = standing()
+    ctrl = WholeBodyController(plant, q0)
+    lifted = feet + np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.02]])
+    com = d.subtree_com[0] + [0.01, 0.015, 0.0]  # off the sole centre: a CoP away from it
+    tau, info = ctrl.compute(d, _reference(com, lifted, stance=(True, False), com_acc=(0.4, -0.3, 0.0)))
+    assert info.ok
+    (f,) = _check_dynamics(plant, d, tau, info, stance=(0,))
+    points = plant.contact_points(d, 0)
+    cop = (points[:, :2] * f[:, 2:]).sum(axis=0) / f[:, 2].sum() - plant.sole_frame(d, 0)[0][:2]
+    assert np.linalg.norm(cop) > 0.005
+    np.testing.assert_allclose(info.cop_offset(0), cop, atol=1e-9)  # the points lie in the sole plane
+    assert info.cop_offset(1) is None
+
+
 def test_standing_robot_contact_forces_carry_its_weight():
     plant, d, q0, feet = standing()
     m = plant.model
