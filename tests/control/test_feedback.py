@@ -150,8 +150,8 @@ def test_dcm_error_after_is_the_lipm_divergent_component_with_the_cop_held_at_an
 
 def test_the_commanded_cop_is_what_the_touchdown_prediction_leaves_to_the_stance_sole():
     """With ``commanded_cop`` the swinging foot's correction is dcm_error_after with the CoP offset the
-    controller reports for the stance sole; without one known (or the setting off) it is the plain
-    k (xi - xi_ref) exp(omega tau)."""
+    controller reports for the stance sole, as far as it lies on the error's side (an offset on the
+    other side counts as 0); with the setting off it is the plain k (xi - xi_ref) exp(omega tau)."""
     omega, tau = 4.0, 0.2
     footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
     com, zero, vel = np.array([0.1, 0.0, 0.6]), np.zeros(3), np.array([0.02, 0.04, 0.0])
@@ -171,3 +171,7 @@ def test_the_commanded_cop_is_what_the_touchdown_prediction_leaves_to_the_stance
     np.testing.assert_allclose(on.offset[0][:2], dcm_error_after(err, np.exp(omega * tau), cop, 0.0), atol=1e-15)
     np.testing.assert_allclose(off.offset[0][:2], err * np.exp(omega * tau), atol=1e-15)
     assert seen == [1]  # asked for the stance sole's CoP, once
+    cop[0] = -0.004  # behind the sole centre while the error is ahead: not taking it back
+    on.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
+    g = np.exp(omega * tau)
+    np.testing.assert_allclose(on.offset[0][:2], [err[0] * g, err[1] * g - cop[1] * (g - 1)], atol=1e-15)

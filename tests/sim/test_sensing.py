@@ -89,6 +89,7 @@ def test_the_g1_runs_walk_run_walk_on_the_estimator_by_default():
     met = run.metrics
     assert not run.fell, met.get("fall_reason")
     assert met["steps_completed"] == met["steps_planned"]
+    assert met["flight_ratio"] >= 0.7  # it really runs: 70 % of the planned flight (issue 5)
     assert met["state_source"] == "estimated"
     est = met["estimation"]
     assert est["base_vel_rmse"] <= 0.05

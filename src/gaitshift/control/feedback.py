@@ -28,7 +28,12 @@ divergent component with the CoP held at an offset ``c`` from the planned ZMP ov
 
 (:func:`dcm_error_after`), with ``c = d sign e``. By default (``commanded_cop``) ``c`` is the offset the
 whole-body controller gave the stance sole's CoP on its last tick (:meth:`TickInfo.cop_offset`), held
-over ``tau``: the ankle is expected to keep doing what it does, not to go to its edge. ``d`` is the CoP's room:
+over ``tau``, as far as it takes the error back (per heading axis, on the error's side; else 0,
+:func:`taking_back`): the ankle is expected to keep doing what it does, not to go to its edge. The
+other side is left out because the QP also rolls the CoP from heel to toe for the whole body's own
+dynamics (std 2.3 cm along the sole in single support of an undisturbed g1-walk, where the plan's ZMP
+sits at the sole centre); extrapolated, that part moved the g1-walk plan 13 cm forward over its ten
+steps (6.5 cm without it, 5.1 cm with the plain exp(omega tau); docs/simulation.md). ``d`` is the CoP's room:
 the sole's half size, or less where the leg's motors cannot hold the moment at the load the plan puts
 on the sole over ``tau`` (:mod:`gaitshift.control.cop_room`: the T1's 20 N m ankles). Without it the step
 correction and the controller's CoP both act on the same error, the foot is over-corrected by what the
@@ -110,6 +115,16 @@ def edge_offset(err: np.ndarray, room: np.ndarray, yaw: float) -> np.ndarray:
     c, s = math.cos(yaw), math.sin(yaw)
     rot = np.array([[c, -s], [s, c]])
     return np.asarray(rot @ (np.sign(rot.T @ err) * room))
+
+
+def taking_back(cop: np.ndarray, err: np.ndarray, yaw: float) -> np.ndarray:
+    """The part (2,) m of a CoP offset ``cop`` (2,) m that takes the divergent-component error ``err``
+    (2,) m back: per axis of the heading frame (heading ``yaw``, rad), the offset where it lies on the
+    error's side, else 0 (module docstring). World frame in and out."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    rot = np.array([[c, -s], [s, c]])
+    off = rot.T @ cop
+    return np.asarray(rot @ np.where(off * (rot.T @ err) > 0.0, off, 0.0))
 
 
 def capture_point_offset(
@@ -235,7 +250,8 @@ class PlanShift:
             load = ctx.load_factor(tau) if ctx.load_factor is not None else 1.0
             return edge_offset(err, self.cop.at(max(load, 0.1) * self.weight), ctx.yaw)
         if self.settings.commanded_cop and ctx.cop is not None:
-            return ctx.cop(side)
+            commanded = ctx.cop(side)
+            return None if commanded is None else taking_back(commanded, err, ctx.yaw)
         return None
 
     def correct_swings(
