@@ -149,6 +149,11 @@ class StateEstimator:
             parts = (self.kinematics, self.joints, self.filter, self.contact, self.fusion, self.slip)
             self._compiled = CompiledTick(*parts, (left, right), self.dt)
 
+    @property
+    def compiled(self) -> bool:
+        """Whether :meth:`step` runs on the compiled kernels (:mod:`gaitshift.control.estimation.tick`)."""
+        return self._compiled is not None
+
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
         """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model without geoms,
