@@ -33,12 +33,15 @@ from one product ``[y, 0, 1; dy/dt + w x y, 1, 0] @ [R^T; v; p]`` (LegKinematics
 filter's mean step without a :class:`BaseState` (``advance``), the forces, heights and speeds reach the
 contact detector, the fused contact and the slip test as plain floats read once. The returned
 ``slip``, ``stance`` and ``contact`` flags are shared read-only arrays, every other returned array is fresh.
+For an InEKF and an IMU with the base's axes (the G1) the tick runs on two compiled kernels around the
+MuJoCo calls instead (:mod:`gaitshift.control.estimation.tick`; ``compiled=False``: the Python path
+above, which the tests compare it with).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -53,7 +56,6 @@ from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_mod
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.slip import SlipDetector
-from gaitshift.control.estimation.tick import CompiledTick
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import (
     FLAG_PAIRS,
@@ -64,6 +66,9 @@ from gaitshift.control.estimation.types import (
     new_estimated_state,
 )
 from gaitshift.errors import InputError
+
+if TYPE_CHECKING:
+    from gaitshift.control.estimation.tick import CompiledTick
 
 SOLE_SITES = ("gaitshift_left_sole", "gaitshift_right_sole")
 
@@ -146,6 +151,8 @@ class StateEstimator:
         self._omega_skew = self._omega_skew9.reshape(3, 3)
         self._compiled: CompiledTick | None = None  # the compiled tick, when it covers this set-up
         if compiled and isinstance(self.filter, InvariantEKF) and self._axes_are_base:
+            from gaitshift.control.estimation.tick import CompiledTick  # numba: imported when used (0.3 s)
+
             parts = (self.kinematics, self.joints, self.filter, self.contact, self.fusion, self.slip)
             self._compiled = CompiledTick(*parts, (left, right), self.dt)
 
