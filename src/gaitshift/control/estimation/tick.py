@@ -14,7 +14,8 @@ named)::
     [a sole centre moves]      the support-polygon test of slip.py (Python; rare)
 
 Why: in the closed loop every Python-level numpy call costs ~1.7 us with the caches the physics and
-the QP leave cold (docs/estimation.md "Measured cost"); this path makes ~8 calls of the ~39.
+the QP leave cold (docs/estimation.md "Measured cost"); this path makes two kernel calls and the five
+MuJoCo calls where the Python path makes ~39 numpy and MuJoCo calls.
 The state of the force trigger, the fused contact and the slip low-pass lives here (``ist``, ``fst``,
 ``recent``, ``rates_lp``); the joint filter, the kinematics and the InEKF keep theirs, shared in place.
 """
