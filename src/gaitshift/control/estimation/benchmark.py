@@ -3,9 +3,10 @@
     python -m gaitshift.control.estimation.benchmark [--trials 5] [--json out.json]
 
 * cost: one :class:`StateEstimator` tick (contact detection, joint filter, kinematics, base filter,
-  CoM, slip) on the recorded G1 sway, timed with ``time.perf_counter`` per tick over every tick of
-  the run (3000), median and p99, in ``trials`` separate runs (the machine is shared: the report gives
-  the best and the worst trial, the 1-minute load average, and a reference numpy timing);
+  CoM, slip; the compiled tick for the InEKFs) on the recorded G1 sway, timed with
+  ``time.perf_counter`` per tick over every tick of the run (3000), median and p99, in ``trials``
+  separate runs (the machine is shared: the report gives the best and the worst trial, the 1-minute
+  load average, and a reference numpy timing);
 * SO(3) exponential routes: mink's ``SO3.exp(w).as_matrix()``, the closed-form Rodrigues in ``math``
   and the in-place MuJoCo quaternion calls the filters use;
 * accuracy: RMS errors on the synthetic walk (5 seeds, 8 s) and on the recorded G1 sway (3 seeds,
@@ -34,6 +35,9 @@ from gaitshift.control.estimation.synthetic import synthetic_readings, synthetic
 from gaitshift.control.estimation.tuning import FilterTuning
 
 PROFILES = ("typical", "rl-peer")
+#: a filter the compiled tick covers: one discarded run of it first, so that no trial pays numba's cache
+#: load (0.2 s) or compilation (7 s on a cold cache) in its first tick
+DEFAULT_COMPILED_FILTER = "inekf"
 
 
 def reference_us() -> float:
@@ -134,6 +138,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     robot = load_robot("g1")
     report: dict[str, Any] = {"lie_us": lie_costs(), "cost_us": {}, "synthetic": {}, "g1": {}}
     run = record_g1_sway(robot, duration=6.0, profile="typical", seed=0)
+    tick_costs(robot, run, DEFAULT_COMPILED_FILTER, "typical")  # discarded: loads (or compiles) the kernels
     for name in FILTERS:
         trials: list[dict[str, float | None]] = []
         for _ in range(args.trials):

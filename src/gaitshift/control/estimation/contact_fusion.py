@@ -83,7 +83,7 @@ class ContactFusion:
         self.on_force, self.off_force, self.window = float(on_force), float(off_force), int(window)
         self.near, self.still = float(near), float(still)
         d = CUSUM_SHIFT * force_std
-        self._gain, self._half = d / force_std**2, d / 2.0
+        self.cusum_gain, self.cusum_half = d / force_std**2, d / 2.0  # CUSUM increment (f - half) gain
         self.reset()
 
     def reset(self, contact: tuple[bool, bool] | np.ndarray = (False, False)) -> None:
@@ -130,7 +130,7 @@ class ContactFusion:
             on = (mean if plan else min(mean, f)) >= self.off_force or (rest and has_plan)
             self._cusum[i] = 0.0
         elif near:
-            s = max(0.0, self._cusum[i] + self._gain * (f - self._half))
+            s = max(0.0, self._cusum[i] + self.cusum_gain * (f - self.cusum_half))
             on = mean > self.on_force or (rest and plan and has_plan) or s > CUSUM_THRESHOLD
             self._cusum[i] = 0.0 if on else s
         else:

@@ -33,12 +33,15 @@ from one product ``[y, 0, 1; dy/dt + w x y, 1, 0] @ [R^T; v; p]`` (LegKinematics
 filter's mean step without a :class:`BaseState` (``advance``), the forces, heights and speeds reach the
 contact detector, the fused contact and the slip test as plain floats read once. The returned
 ``slip``, ``stance`` and ``contact`` flags are shared read-only arrays, every other returned array is fresh.
+For an InEKF and an IMU with the base's axes (the G1) the tick runs on two compiled kernels around the
+MuJoCo calls instead (:mod:`gaitshift.control.estimation.tick`; ``compiled=False``: the Python path
+above, which the tests compare it with).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -47,6 +50,7 @@ from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.contact import ON_SIGMAS, ContactDetector
 from gaitshift.control.estimation.contact_fusion import ContactFusion
 from gaitshift.control.estimation.filters import DEFAULT_FILTER, make_filter
+from gaitshift.control.estimation.inekf import InvariantEKF
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_model
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
@@ -62,6 +66,9 @@ from gaitshift.control.estimation.types import (
     new_estimated_state,
 )
 from gaitshift.errors import InputError
+
+if TYPE_CHECKING:
+    from gaitshift.control.estimation.tick import CompiledTick
 
 SOLE_SITES = ("gaitshift_left_sole", "gaitshift_right_sole")
 
@@ -87,6 +94,8 @@ class StateEstimator:
             (:attr:`gaitshift.robots.soles.SoleGeometry.points`): the lowest of them gives the sole's
             height for the fused contact, their convex hull its support for the slip test; None: the
             sole centre alone.
+        compiled: run the tick on the compiled kernels (:mod:`gaitshift.control.estimation.tick`) when
+            they cover the set-up (an InEKF, an IMU with the base's axes); False: the Python path.
     """
 
     def __init__(
@@ -107,6 +116,7 @@ class StateEstimator:
         slip_tau: float = 0.03,
         gravity: float = 9.81,
         sole_points: tuple[np.ndarray, np.ndarray] | None = None,
+        compiled: bool = True,
     ):
         if not dt > 0:
             raise InputError("estimator.dt", dt, "a period > 0 s")
@@ -139,6 +149,17 @@ class StateEstimator:
         self._affine = np.zeros((5, 3))
         self._omega_skew9 = np.zeros(9)
         self._omega_skew = self._omega_skew9.reshape(3, 3)
+        self._compiled: CompiledTick | None = None  # the compiled tick, when it covers this set-up
+        if compiled and isinstance(self.filter, InvariantEKF) and self._axes_are_base:
+            from gaitshift.control.estimation.tick import CompiledTick  # numba: imported when used (0.3 s)
+
+            parts = (self.kinematics, self.joints, self.filter, self.contact, self.fusion, self.slip)
+            self._compiled = CompiledTick(*parts, (left, right), self.dt)
+
+    @property
+    def compiled(self) -> bool:
+        """Whether :meth:`step` runs on the compiled kernels (:mod:`gaitshift.control.estimation.tick`)."""
+        return self._compiled is not None
 
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
@@ -173,6 +194,8 @@ class StateEstimator:
         self.contact.reset(contact)
         self.fusion.reset(contact)
         self.slip.reset()
+        if self._compiled is not None:
+            self._compiled.reset(contact)
 
     def _sole_twist(self, i: int, rates: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """World angular velocity (3,) rad/s and rotation (3, 3) of sole ``i`` at this tick, for the rate
@@ -186,6 +209,8 @@ class StateEstimator:
     ) -> EstimatedState:
         """One tick: readings in, the estimated state out (module docstring); ``planned`` (2,) bool: the
         contact flags of the controller's plan at this tick (None: the contact flags ignore the plan)."""
+        if self._compiled is not None:
+            return self._compiled.step(imu, joints, forces, planned)
         normal = forces.normal.tolist()
         left, right = self.contact.update_values(normal)
         q, qd = self.joints.update(joints.q, joints.qd)

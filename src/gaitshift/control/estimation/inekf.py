@@ -64,6 +64,8 @@ alike, to first order).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import mujoco
 import numpy as np
 from scipy.linalg.lapack import dposv
@@ -93,6 +95,20 @@ def move_origin(cov: np.ndarray, c: np.ndarray) -> None:
     cols = cov[:, 0:3]
     for j in (6, 9, 12):
         cov[:, j : j + 3] += cols @ neg_skew.T
+
+
+class MeanArrays(NamedTuple):
+    """The filter's arrays the mean step reads and writes (:meth:`InvariantEKF.mean_arrays`)."""
+
+    quat: np.ndarray  # (4,) orientation R of the IMU (w, x, y, z)
+    rot9: np.ndarray  # (9,) R row-major
+    vec: np.ndarray  # (5, 6): columns 0:3 rows v, p, d_L, d_R (positions from the origin), a_w
+    bias: np.ndarray  # (6,) b_g, b_a
+    step: np.ndarray  # (2, 5) [v, p] <- step @ [v, p, d_L, d_R, a_w]
+    gravity_step: np.ndarray  # (2, 3) [dt; dt^2 / 2] g^T
+    offset: np.ndarray  # (2, 3) [0; o]: [v; p] + offset is the world [v; p]
+    ticks: np.ndarray  # (1,) int64 tick counter
+    every: int  # ticks between corrections
 
 
 class _Pattern:
@@ -153,7 +169,7 @@ class InvariantEKF:
         self._cov_trace = 0.0
         self._every = int(t.correct_every)
         self._dc = 0.0
-        self._gravity_step = np.zeros((2, 3))
+        self._gravity_step = np.zeros((2, 3))  # [dt; dt^2 / 2] g^T
         self._zquat = np.zeros((2, 4))  # stance-sole orientations Z_L, Z_R (flat feet)
         self._zrot = np.zeros((2, 3, 3))
         self._zrot9 = self._zrot.reshape(2, 9)
@@ -175,7 +191,7 @@ class InvariantEKF:
         self._qdiag = np.zeros(nx)
         self._floor2 = np.array([t.foot_floor**2] * 2 + [t.foot_rot_floor**2] * 2)
         self._in_state = [False, False]
-        self._ticks = 0
+        self.ticks = np.zeros(1, np.int64)  # ticks since construction (an array: the compiled tick counts too)
         self._exp_mat = np.zeros((6, 3))  # [Exp(phi)^T ; J_l(phi)^T]
         self._exp_flat = self._exp_mat.reshape(18)
         self._dquat = np.empty(4)
@@ -237,7 +253,7 @@ class InvariantEKF:
         # s_g^2 dc M M^T = (s_g^2 / dc) (M dc)(M dc)^T: the bordered product adds it
         self._cov_aug[self.nx :, self.nx :] = np.eye(3) * t.gyro_density**2 / dc
         self._mean_step[:] = [[1.0, 0.0, 0.0, 0.0, dt], [dt, 1.0, 0.0, 0.0, 0.5 * dt * dt]]
-        self._gravity_step = np.outer([dt, 0.5 * dt * dt], self.gravity)
+        self._gravity_step[...] = np.outer([dt, 0.5 * dt * dt], self.gravity)
         self._dt = dt
 
     # ------------------------------------------------------------------ tick
@@ -260,12 +276,27 @@ class InvariantEKF:
         np.add(self._mean_step.dot(self._vec), self._gravity_step, out=self._vp)
         mujoco.mju_quatIntegrate(self._quat, omega, dt)
         mujoco.mju_quat2Mat(self._rot9, self._quat)
-        self._ticks += 1
-        if self._ticks % self._every == 0:
-            self._correction_tick(feet, contact)
+        self.ticks += 1
+        if self.ticks[0] % self._every == 0:
+            self.correction_tick(feet, contact)
         return self.rot, self._vp + self._offset, omega, self._cov_trace
 
-    def _correction_tick(self, feet: FootKinematics, contact: np.ndarray) -> None:
+    def mean_arrays(self, dt: float) -> MeanArrays:
+        """The arrays of the mean step, for the compiled tick (:mod:`gaitshift.control.estimation.tick`),
+        with the constants of tick ``dt`` s set; the filter keeps using them (every update in place)."""
+        if dt != self._dt:
+            self._set_dt(dt)
+        return MeanArrays(
+            self._quat, self._rot9, self._buf, self._bias, self._mean_step, self._gravity_step, self._offset,
+            self.ticks, self._every,
+        )  # fmt: skip
+
+    @property
+    def cov_trace(self) -> float:
+        """Trace of the base block (R, v, p) of the covariance, as of the last correction tick."""
+        return self._cov_trace
+
+    def correction_tick(self, feet: FootKinematics, contact: np.ndarray) -> None:
         """Covariance over the correction period, recentring, the stance-foot correction and the feet
         that touched down; then the outputs that only change here (biases, covariance trace)."""
         self._propagate_cov()
@@ -295,7 +326,7 @@ class InvariantEKF:
         self._phi_skew[...] = self._vec[0:4].dot(SKEW).reshape(4, 3, 3).dot(self._phi_rot)
         self._phi_noise[...] = self._phi_gyro
         cov = self._phi.dot(self._cov_aug).dot(self._phi_t)
-        if self._ticks % (SYMMETRISE_EVERY * self._every) == 0:
+        if self.ticks[0] % (SYMMETRISE_EVERY * self._every) == 0:
             cov += cov.T
             cov *= 0.5
         self.cov[...] = cov

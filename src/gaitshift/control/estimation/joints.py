@@ -40,15 +40,15 @@ class JointVelocityFilter:
         rz = np.diag([pos_std**2, vel_std**2])
         p_prior = solve_discrete_are(f.T, np.eye(2), q, rz)  # predicted covariance, steady state
         self.gain = p_prior @ np.linalg.inv(p_prior + rz)  # (2, 2)
-        self._a = (np.eye(2) - self.gain) @ f
-        self._x = np.zeros((2, n_joints))
+        self.a = (np.eye(2) - self.gain) @ f  # (2, 2): x <- a x + gain z
+        self.state = np.zeros((2, n_joints))  # x = [q; qd], updated in place (the compiled tick shares it)
         self._z = np.zeros((2, n_joints))
         self._started = False
 
     def reset(self, q: np.ndarray, qd: np.ndarray | None = None) -> None:
         """Start from positions (nj,) and velocities (nj,) (zero if None)."""
-        self._x[0] = q
-        self._x[1] = 0.0 if qd is None else qd
+        self.state[0] = q
+        self.state[1] = 0.0 if qd is None else qd
         self._started = True
 
     def update(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -58,7 +58,7 @@ class JointVelocityFilter:
         z = self._z
         z[0] = q
         z[1] = qd
-        x = self._a.dot(self._x)
+        x = self.a.dot(self.state)
         x += self.gain.dot(z)
-        self._x = x
+        self.state[...] = x
         return x[0], x[1]

@@ -120,14 +120,14 @@ class LegKinematics:
         self._root = int(model.jnt_bodyid[free[0]])
         self.mass = float(model.body_subtreemass[self._root])
         self.imu_on_base = int(model.site_bodyid[self._imu]) == self._root
-        self._jac = np.zeros((12, model.nv))  # sole L, sole R, CoM, base origin (zero) Jacobians
+        self.jac = np.zeros((12, model.nv))  # sole L, sole R, CoM, base origin (zero) Jacobians
         self._jac_imu = np.zeros((3, model.nv))
         self._jac_imu_rot = np.zeros((3, model.nv))
         self._pts = np.zeros((4, 3))  # row 3: the base origin, fixed at 0 in the base frame
-        self._sole_ids = np.array(self._soles)
+        self.sole_ids = self._sole_ids = np.array(self._soles)  # (2,) site ids of the soles
         self._pts_soles = self._pts[0:2]
-        self._jac_rows = tuple(self._jac[3 * i : 3 * i + 3] for i in range(3))
-        self._qvel = np.zeros(model.nv)
+        self._jac_rows = tuple(self.jac[3 * i : 3 * i + 3] for i in range(3))
+        self.qvel = np.zeros(model.nv)  # joint velocities in [6:], free joint zero
         self._jacr = np.zeros((6, model.nv))  # rotational Jacobians of the soles
         self._jac_rate = np.zeros((3, model.nv))  # one rotational Jacobian for sole_rate
         self._jacr_rows = (self._jacr[0:3], self._jacr[3:6])
@@ -136,9 +136,9 @@ class LegKinematics:
         # the whole-body CoM: subtree 0 (the world's) when the robot carries all the mass (MuJoCo's
         # mj_jacSubtreeCom is twice as fast there), else the root's
         self._com_body = 0 if model.body_subtreemass[0] == model.body_subtreemass[self._root] else self._root
-        self._com_view = self.data.subtree_com[self._com_body]
+        self.com_view = self.data.subtree_com[self._com_body]  # (3,) the whole-body CoM in the base frame
         self._vel_flat = np.zeros(12)  # the points' velocities (4, 3), and the soles' orientations (2, 3, 3)
-        self._vel = self._vel_flat.reshape(4, 3)
+        self.vel = self._vel_flat.reshape(4, 3)
         #: the points in the IMU frame (rows 0:4, columns 0:3: ``points`` of the result) and rows 4:8 for
         #: their velocities, with a 1 in column 4 (positions) or 3 (velocities): ``points_aug @ [R^T; v; p]``
         #: is the world positions and velocities of the points (the estimator fills rows 4:8)
@@ -179,37 +179,27 @@ class LegKinematics:
 
         For an IMU on the base with the base's axes (the G1's pelvis IMU) the result's arrays are the
         object's own buffers, rewritten by the next call: read them before computing again."""
-        m, d, rows = self.model, self.data, self._jac_rows
         self._qpos[7:] = q
-        self._qvel[6:] = qd
-        mujoco.mj_kinematics(m, d)
-        mujoco.mj_comPos(m, d)
-        refresh = self._ticks % VAR_EVERY == 0  # the rotational Jacobians serve the variances only
-        jacr = self._jacr_rows if refresh else (None, None)
-        mujoco.mj_jacSite(m, d, rows[0], jacr[0], self._soles[0])
-        mujoco.mj_jacSite(m, d, rows[1], jacr[1], self._soles[1])
-        mujoco.mj_jacSubtreeCom(m, d, rows[2], self._com_body)
+        self.qvel[6:] = qd
+        self.run_mujoco()
         if self.imu_axes_are_base:  # y = x_B - p_S straight from MuJoCo's arrays (row 3, -p_S, is fixed)
-            y_rows, p_s = self._y_rows, self._p_s
+            y_rows, p_s = self._y_rows, self.p_s
             np.subtract(self._x_rows[0], p_s, y_rows[0])
             np.subtract(self._x_rows[1], p_s, y_rows[1])
-            np.subtract(self._com_view, p_s, y_rows[2])
+            np.subtract(self.com_view, p_s, y_rows[2])
         else:
             self._site_xpos.take(self._sole_ids, axis=0, out=self._pts_soles)
-            self._pts[2] = self._com_view
-        pts, vel = self._pts, self._vel
-        np.dot(self._jac, self._qvel, out=self._vel_flat)  # free-joint columns meet zeros
-        self._ticks += 1
-        if refresh:
-            self._refresh_variances()
+            self._pts[2] = self.com_view
+        pts, vel = self._pts, self.vel
+        np.dot(self.jac, self.qvel, out=self._vel_flat)  # free-joint columns meet zeros
         if self.imu_axes_are_base:
             return self._body
-        rot = np.matmul(d.site_xmat[self._imu].reshape(3, 3).T, self._rot)
+        rot = np.matmul(self.data.site_xmat[self._imu].reshape(3, 3).T, self._rot)
         if not self.imu_on_base:
             y, ydot, base_rot, base_omega = self._relative_to_moving_imu(pts, vel, qd)
         else:
             y, ydot, base_rot, base_omega = (
-                (pts - self._p_s).dot(self._rot_s),
+                (pts - self.p_s).dot(self._rot_s),
                 vel.dot(self._rot_s),
                 self._base_rot,
                 self._zero,
@@ -217,6 +207,25 @@ class LegKinematics:
         self._y[...] = y  # points_aug holds the points for every IMU
         feet = FootKinematics(pos=y[0:2], vel=ydot[0:2], var=self._var, rot=rot, rot_var=self._rot_var)
         return BodyKinematics(feet, y, ydot, base_rot, base_omega)
+
+    def run_mujoco(self) -> BodyKinematics:
+        """The MuJoCo part of :meth:`compute` on the joint angles and velocities already in ``data.qpos[7:]``
+        and ``qvel[6:]`` (the compiled tick writes them): poses, CoM, the Jacobians ``jac`` (12, nv) (the
+        rotational ones on the variance-refresh ticks), the tick count and the variance refresh. For an
+        IMU on the base with the base's axes, the returned object's arrays are filled by the caller
+        (:func:`gaitshift.control.estimation.kernels.imu_frame_points`, or :meth:`compute`)."""
+        m, d, rows = self.model, self.data, self._jac_rows
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        refresh = self._ticks % VAR_EVERY == 0  # the rotational Jacobians serve the variances only
+        jacr = self._jacr_rows if refresh else (None, None)
+        mujoco.mj_jacSite(m, d, rows[0], jacr[0], self._soles[0])
+        mujoco.mj_jacSite(m, d, rows[1], jacr[1], self._soles[1])
+        mujoco.mj_jacSubtreeCom(m, d, rows[2], self._com_body)
+        self._ticks += 1
+        if refresh:
+            self._refresh_variances()
+        return self._body
 
     def sole_rate(self, i: int, qd: np.ndarray) -> np.ndarray:
         """Angular velocity (3,) rad/s of sole ``i`` relative to the IMU, in the IMU frame, at the pose of
@@ -234,22 +243,22 @@ class LegKinematics:
         """Encoder-noise variances of the soles' positions and orientations (module docstring); for an
         IMU on the base with the base's axes, the result object that holds the new arrays."""
         scale = self.encoder_std**2 / 3.0
-        self._var = scale * np.square(self._jac[0:6, 6:]).reshape(2, -1).sum(axis=1)
+        self._var = scale * np.square(self.jac[0:6, 6:]).reshape(2, -1).sum(axis=1)
         self._rot_var = scale * np.square(self._jacr[:, 6:]).reshape(2, -1).sum(axis=1)
         y = self._y
-        feet = FootKinematics(pos=y[0:2], vel=self._vel[0:2], var=self._var, rot=self._rot, rot_var=self._rot_var)
-        self._body = BodyKinematics(feet, y, self._vel, self._base_rot, self._zero)
+        feet = FootKinematics(pos=y[0:2], vel=self.vel[0:2], var=self._var, rot=self._rot, rot_var=self._rot_var)
+        self._body = BodyKinematics(feet, y, self.vel, self._base_rot, self._zero)
 
     def _set_base_constants(self) -> None:
         """IMU site pose in the base frame (constant for an IMU on the base)."""
         d = self.data
         self._rot_s = d.site_xmat[self._imu].reshape(3, 3).copy()
-        self._p_s = d.site_xpos[self._imu].copy()
+        self.p_s = d.site_xpos[self._imu].copy()  # (3,) IMU site position in the base frame, m
         self._base_rot = self._rot_s.T.copy()
         #: the IMU sits on the base with the base's axes (then base_rot = I and the IMU omega is the base's)
         self.imu_axes_are_base = self.imu_on_base and bool(np.allclose(self._rot_s, np.eye(3), atol=1e-12))
         self._zero = np.zeros(3)
-        np.subtract(self._pts, self._p_s, out=self._y)  # row 3 (the base origin): -p_S
+        np.subtract(self._pts, self.p_s, out=self._y)  # row 3 (the base origin): -p_S
 
     def _relative_to_moving_imu(
         self, pts: np.ndarray, vel: np.ndarray, qd: np.ndarray

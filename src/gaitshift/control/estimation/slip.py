@@ -119,6 +119,21 @@ class SlipDetector:
         self.slip = (False, False)
         self.moving = (False, False)
 
+    def support_speed(self, i: int, vx: float, vy: float, omega: np.ndarray, rot: np.ndarray) -> float:
+        """``s`` of eq. (2) for sole ``i``: low-passed centre velocity ``(vx, vy)`` m/s, angular velocity
+        ``omega`` (3,) rad/s and rotation sole -> world ``rot`` (3, 3)."""
+        wx, wy, wz = omega.tolist()
+        r = self.supports[i].dot(rot.T).tolist()  # support vertices relative to the centre, world, m
+        return distance_to_polygon([(vx + wy * z - wz * y, vy + wz * x - wx * z) for x, y, z in r])  # eq. (1)
+
+    @staticmethod
+    def resolve(flags: list[bool], speed: list[float]) -> tuple[bool, bool]:
+        """The slip flags (2,) from the per-sole tests: when both fire, the faster sole alone (a slide
+        biases the base velocity, so the still sole looks slow-moving too)."""
+        if flags[0] and flags[1]:
+            return speed[0] >= speed[1], speed[1] > speed[0]
+        return flags[0], flags[1]
+
     def update(
         self,
         stance: tuple[bool, bool],
@@ -149,14 +164,9 @@ class SlipDetector:
             if centre[i] <= lim:  # the centre lies in the support: s <= |LP(v_c)|_xy
                 continue
             omega, rot = twist(i, self.rates_lp[i])
-            wx, wy, wz = omega.tolist()
-            r = self.supports[i].dot(rot.T).tolist()  # support vertices relative to the centre, world, m
-            u = [(lp[0] + wy * z - wz * y, lp[1] + wz * x - wx * z) for x, y, z in r]  # eq. (1), horizontal
-            self.speed[i] = distance_to_polygon(u)
+            self.speed[i] = self.support_speed(i, lp[0], lp[1], omega, rot)
             flags[i] = self.speed[i] > lim
-        if flags[0] and flags[1]:  # a slide biases the base velocity, so the still sole looks slow-moving too
-            flags = [self.speed[0] >= self.speed[1], self.speed[1] > self.speed[0]]
-        self.slip = (flags[0], flags[1])
+        self.slip = self.resolve(flags, self.speed)
         moving = [centre[0] > lim, centre[1] > lim]
         if moving[0] and moving[1]:
             moving = [centre[0] >= centre[1], centre[1] > centre[0]]
