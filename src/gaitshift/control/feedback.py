@@ -83,9 +83,10 @@ class CaptureSettings:
     # docstring). Off by default: it holds g1-stairs-down on seeds 0-5 but g1-walk-run-walk then falls on
     # a 0.4 friction floor (8.70 s estimated, 8.85 s oracle; docs/simulation.md, "What decides it")
     cop_room: bool = False
-    # the predicted error leaves to the stance sole the CoP offset the whole-body controller commanded on
-    # its last tick (module docstring; cop_room takes precedence). On: g1-stairs-down holds on seeds 0, 1,
-    # 3, 4, 5 with a 0.21-0.25 m final stance (off: 0 and 5, the last stance up to 0.57 m wide)
+    # the predicted error leaves to the stance sole the part of the CoP offset the whole-body controller
+    # commanded on its last tick that takes the error back (module docstring; cop_room takes precedence).
+    # On: g1-stairs-down holds on seeds 0-5, its last stance 0.23-0.24 m wide (off: seeds 0 and 5, the
+    # last stance up to 0.65 m wide; docs/simulation.md, "Fifth pass")
     commanded_cop: bool = True
 
 
