@@ -91,13 +91,21 @@ def plan_cmd(
 
 @app.command("plot")
 def plot_cmd(
-    file: Path = typer.Argument(..., help="Trajectory file written by `gaitshift plan`."),
+    file: Path = typer.Argument(
+        ..., help="Trajectory file written by `gaitshift plan`, or a log of `gaitshift simulate --out`."
+    ),
     out: Path = typer.Option(..., "--out", help="Folder for the PNG figures."),
 ) -> None:
-    """Write the figures of a planned trajectory as PNGs."""
+    """Write the figures of a planned trajectory as PNGs; of a simulation log, the state estimate
+    against the truth (sim_estimation.png)."""
     out_folder(out, "--out")
-    traj = Trajectory.load(file)
-    paths = _figures(traj, out, str(file))
+    from gaitshift.plots import estimation
+
+    if estimation.is_simulation_log(file):
+        arrays, metrics = estimation.read_estimation_log(file)
+        paths = [estimation.plot_estimation(arrays, out / "sim_estimation.png", metrics)]
+    else:
+        paths = _figures(Trajectory.load(file), out, str(file))
     for p in paths:
         typer.echo(f"wrote {p}")
 

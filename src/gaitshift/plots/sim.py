@@ -4,7 +4,9 @@
   ``m (g + z''_ref)``) and simulated (sum of MuJoCo contact forces), as Figs. 11 and 13 of paper 001;
 * ``sim_speed.png``: planned, simulated and commanded forward CoM speed (Fig. 7 of paper 003);
 * ``sim_snapshots.png``: rendered snapshots at evenly spaced times (needs an OpenGL context, e.g.
-  MUJOCO_GL=egl; skipped with a note when none is available).
+  MUJOCO_GL=egl; skipped with a note when none is available);
+* ``sim_estimation.png``: the state estimate against the truth (:mod:`gaitshift.plots.estimation`),
+  when the run logged the estimator.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from gaitshift.common.runs import true_runs
+from gaitshift.plots.estimation import KEYS as ESTIMATION_KEYS
+from gaitshift.plots.estimation import plot_estimation
 from gaitshift.plots.files import save_figure
 
 
@@ -116,4 +120,7 @@ def plot_all(result: Any, traj: Any, folder: str | Path) -> list[Path]:
     snap = plot_snapshots(result, plant.model, folder / "sim_snapshots.png")
     if snap is not None:
         out.append(snap)
+    if all(key in result.arrays for key in ESTIMATION_KEYS):
+        est = result.metrics.get("estimation") if isinstance(result.metrics, dict) else None
+        out.append(plot_estimation(result.arrays, folder / "sim_estimation.png", est))
     return out
