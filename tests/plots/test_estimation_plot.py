@@ -30,13 +30,13 @@ def test_roll_pitch_yaw_inverts_the_zyx_rotation():
 def _log(n: int = 50) -> dict[str, np.ndarray]:
     t = np.arange(n) * 0.002
     truth = np.stack([np.full(n, 3.1), np.zeros(n), np.full(n, 0.05)], axis=1)  # yaw, pitch, roll
-    est = truth + [-6.2, 0.0, 0.02]  # yaw -3.1: 0.083 rad across the wrap, roll off by 0.02 rad
+    est = truth + np.array([-6.2, 0.0, 0.02])  # yaw -3.1: 0.083 rad across the wrap, roll off by 0.02 rad
     qpos, est_qpos = np.zeros((n, 9)), np.zeros((n, 9))
     qpos[:, 0], est_qpos[:, 0] = t, t + 0.01
     qpos[:, 3:7], est_qpos[:, 3:7] = _quat_wxyz(truth), _quat_wxyz(est)
     qvel = np.zeros((n, 8))
     qvel[:, 0] = 0.5
-    est_qvel = qvel + [0.0, 0.03, 0.0, 0, 0, 0, 0, 0]
+    est_qvel = qvel + np.array([0.0, 0.03, 0.0, 0, 0, 0, 0, 0])
     contact = np.zeros((n, 2), bool)
     contact[:, 0] = True
     grf = np.zeros((n, 2, 3))
