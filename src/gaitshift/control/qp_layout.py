@@ -1,4 +1,5 @@
-"""The fixed structure of the whole-body QP for one set of stance feet, built once and refilled each tick.
+"""The fixed structure of the whole-body QP for one set of stance feet, built once and refilled each tick
+(:class:`QpLayout`), and the gain-dependent terms the controller keeps with it (:class:`StanceTerms`).
 
 Unknowns ``x = [qdd (nv), w_s (6) per stance foot]``, ``w_s = [F_s; tau_s]`` the contact wrench of sole
 s about its centre, world frame. The QP is held in daqp's two-sided form ``bl <= [x; A x] <= bu`` (the
@@ -146,3 +147,27 @@ class QpLayout:
             B_blocks=_blocks(B, 0, 0, (ns, 2, 3, 3), ((6, 6), (3, 3), (1, 0), (0, 1))),
             mu=cones[0].mu,
         )
+
+
+class StanceTerms:
+    """What one stance set (left, right in stance) fixes for the current gains: the QP layout, the
+    frame-task rows in use among the 24 (position and orientation of the swing soles, orientation of
+    the torso and the pelvis) and their weights, the swing sides, the stance soles' cone faces and
+    regularisation rows ``L^T`` (``Q = L L^T``), block diagonal over the stance soles, (m, 6 ns) and
+    (6 ns, 6 ns), in the sole frames (times ``B^T`` in the world, :attr:`QpLayout.B`), and the
+    weights of the wrench-task rows (CoM, angular momentum, regularisation)."""
+
+    def __init__(self, lay: QpLayout, key: tuple[bool, bool], w_task: np.ndarray, w_cent: np.ndarray, w_reg: float):
+        self.lay = lay
+        self.swing = tuple(s for s in (0, 1) if not key[s])
+        self.rows = np.array([r for s in self.swing for r in range(6 * s, 6 * s + 6)] + [15, 16, 17, 21, 22, 23])
+        self.w_rows = w_task.ravel()[self.rows]
+        ns = len(lay.stance)
+        self.faces = np.zeros((lay.rows["cone"].stop - lay.rows["cone"].start, 6 * ns))
+        self.reg = np.zeros((6 * ns, 6 * ns))
+        r = 0
+        for j, c in enumerate(lay.cones):
+            self.faces[r : r + len(c.faces), 6 * j : 6 * j + 6] = c.faces
+            self.reg[6 * j : 6 * j + 6, 6 * j : 6 * j + 6] = np.linalg.cholesky(c.metric).T
+            r += len(c.faces)
+        self.w_wrench = np.concatenate([w_cent, np.full(6 * len(lay.stance), w_reg)])

@@ -47,7 +47,7 @@ import mujoco
 import numpy as np
 
 from gaitshift.control.plant_view import PlantView
-from gaitshift.control.qp_layout import QpLayout
+from gaitshift.control.qp_layout import QpLayout, StanceTerms
 from gaitshift.control.qp_terms import INF, SKEW_BASIS, quat_yaw_error, rotation_error, solve_qp
 from gaitshift.control.wbc_data import Gains, TickInfo, TickReference
 from gaitshift.control.wrench_cone import SoleCone
@@ -67,30 +67,6 @@ class _Views:
         self.bias, self.passive = data.qfrc_bias, data.qfrc_passive
         self.xpos, self.xmat, self.xquat = data.xpos, data.xmat, data.xquat
         self.torso_quat, self.pelvis_quat = data.xquat[torso], data.xquat[pelvis]
-
-
-class _Stance:
-    """What one stance set (left, right in stance) fixes for the current gains: the QP layout, the
-    frame-task rows in use among the 24 (position and orientation of the swing soles, orientation of
-    the torso and the pelvis) and their weights, the swing sides, the stance soles' cone faces and
-    regularisation rows ``L^T`` (``Q = L L^T``), block diagonal over the stance soles, (m, 6 ns) and
-    (6 ns, 6 ns), in the sole frames (times ``B^T`` in the world, :attr:`QpLayout.B`), and the
-    weights of the wrench-task rows (CoM, angular momentum, regularisation)."""
-
-    def __init__(self, lay: QpLayout, key: tuple[bool, bool], w_task: np.ndarray, w_cent: np.ndarray, w_reg: float):
-        self.lay = lay
-        self.swing = tuple(s for s in (0, 1) if not key[s])
-        self.rows = np.array([r for s in self.swing for r in range(6 * s, 6 * s + 6)] + [15, 16, 17, 21, 22, 23])
-        self.w_rows = w_task.ravel()[self.rows]
-        ns = len(lay.stance)
-        self.faces = np.zeros((lay.rows["cone"].stop - lay.rows["cone"].start, 6 * ns))
-        self.reg = np.zeros((6 * ns, 6 * ns))
-        r = 0
-        for j, c in enumerate(lay.cones):
-            self.faces[r : r + len(c.faces), 6 * j : 6 * j + 6] = c.faces
-            self.reg[6 * j : 6 * j + 6, 6 * j : 6 * j + 6] = np.linalg.cholesky(c.metric).T
-            r += len(c.faces)
-        self.w_wrench = np.concatenate([w_cent, np.full(6 * len(lay.stance), w_reg)])
 
 
 class WholeBodyController:
@@ -123,7 +99,7 @@ class WholeBodyController:
         self.gravity = -float(m.opt.gravity[2])
         self.last_solver = "daqp"
         self._cones: dict[float, tuple[SoleCone, SoleCone]] = {}
-        self._stances: dict[tuple[bool, bool], _Stance] = {}
+        self._stances: dict[tuple[bool, bool], StanceTerms] = {}
         self._cached_gains: Gains | None = None
         dofs = np.concatenate([np.arange(6), plant.actuated_dofs])  # the dynamics and torque rows
         self._dofs: slice | np.ndarray = slice(None) if np.array_equal(dofs, np.arange(m.nv)) else dofs
@@ -204,7 +180,7 @@ class WholeBodyController:
             self._views = _Views(data, self.plant.torso_body, self.plant.pelvis_body)
         return self._views
 
-    def _stance(self, ref: TickReference) -> _Stance:
+    def _stance(self, ref: TickReference) -> StanceTerms:
         """The stance set of ``ref`` (rebuilt when the gains or the assumed friction change)."""
         self._gain_arrays()
         key = (bool(ref.stance[0]), bool(ref.stance[1]))
@@ -216,7 +192,7 @@ class WholeBodyController:
                 soles = self.plant.soles
                 cones = self._cones[mu] = (SoleCone.of(soles[0].points, mu), SoleCone.of(soles[1].points, mu))
             lay = QpLayout.build(tuple(s for s in (0, 1) if key[s]), cones, self.nv, self.nu)
-            st = self._stances[key] = _Stance(lay, key, self._w_task, self._w_cent, self.gains.w_reg_f)
+            st = self._stances[key] = StanceTerms(lay, key, self._w_task, self._w_cent, self.gains.w_reg_f)
         return st
 
     # ------------------------------------------------------------------ kinematics
@@ -259,7 +235,7 @@ class WholeBodyController:
         return self._J.copy(), self._Jd.copy(), self._P.copy(), self._R.copy()
 
     # ------------------------------------------------------------------ tasks
-    def _centroidal_tasks(self, vw: _Views, ref: TickReference, st: _Stance) -> None:
+    def _centroidal_tasks(self, vw: _Views, ref: TickReference, st: StanceTerms) -> None:
         """CoM (Newton) and angular-momentum damping (Euler about the CoM) on the contact wrenches,
         plus their regularisation: the (6 ns, 6 ns) wrench block of the cost, ``T_w^T W T_w``
         (:mod:`gaitshift.control.qp_layout`)."""
@@ -280,7 +256,7 @@ class WholeBodyController:
         np.matmul(Tw, lay.Tw, out=lay.H[nv:, nv:])
         np.matmul(Tw[:, :6], t, out=lay.f[nv:])
 
-    def _motion_targets(self, vw: _Views, ref: TickReference, st: _Stance) -> np.ndarray:
+    def _motion_targets(self, vw: _Views, ref: TickReference, st: StanceTerms) -> np.ndarray:
         """Swing-foot pose and torso and pelvis orientation: minus the PD targets of the four frames,
         ``-a = -K_p e - K_d (v_ref - J qd) + Jdot qd - a_ff`` (4, 6)."""
         err, vref, ff = self._err, self._vref, self._ff
@@ -310,7 +286,7 @@ class WholeBodyController:
             a * z + b * y - c * x + d * w,
         )
 
-    def _motion_tasks(self, vw: _Views, ref: TickReference, st: _Stance) -> None:
+    def _motion_tasks(self, vw: _Views, ref: TickReference, st: StanceTerms) -> None:
         """The (nv, nv) qdd block of the cost: the stacked task rows, posture (joint PD toward the
         standing pose) and regularisation on the diagonal."""
         lay, nv = st.lay, self.nv
@@ -324,7 +300,7 @@ class WholeBodyController:
         fq[6:] += self._post_q * vw.qpos[7:] + self._post_v * vw.qvel[6:] + self._post_0
 
     # ------------------------------------------------------------------ constraints
-    def _constraints(self, st: _Stance, h: np.ndarray, ref: TickReference) -> None:
+    def _constraints(self, st: StanceTerms, h: np.ndarray, ref: TickReference) -> None:
         """Refill the changing rows of the layout: floating-base dynamics and torque limits (one block,
         ``[M, -J_feet^T]`` at the base and actuated dofs), non-sliding feet, wrench cones, force caps
         (:mod:`gaitshift.control.qp_layout`)."""
@@ -347,7 +323,7 @@ class WholeBodyController:
         lay.bu[lay.cap] = ref.fz_max[lay.feet]
         lay.cone[:] = st.faces @ lay.B
 
-    def _knee_bounds(self, vw: _Views, st: _Stance) -> None:
+    def _knee_bounds(self, vw: _Views, st: StanceTerms) -> None:
         """Bounds on the knees' accelerations that keep them ``limit_margin`` inside their range over
         ``limit_horizon`` s: ``q + v T + a T^2 / 2`` within the range. Without them the trailing knee of
         a fast running swing is driven straight into its limit just after lift-off (docs/simulation.md,
@@ -368,7 +344,7 @@ class WholeBodyController:
                 lo, hi = (lo, INF) if abs(q_lo) <= abs(q_hi) else (-INF, hi)
             lo_x[dof], up_x[dof] = min(lo, hi), max(lo, hi)
 
-    def _free_knees(self, st: _Stance) -> None:
+    def _free_knees(self, st: StanceTerms) -> None:
         """No bounds on the knees' accelerations."""
         lo_x, up_x = st.lay.lo["x"], st.lay.up["x"]
         for dof, _ in self._knee:

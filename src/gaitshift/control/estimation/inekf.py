@@ -71,30 +71,12 @@ import numpy as np
 from scipy.linalg.lapack import dposv
 
 from gaitshift.control.estimation.calibration import GyroCalibration
+from gaitshift.control.estimation.inekf_terms import CorrectionPattern, diagonal_view, move_origin
 from gaitshift.control.estimation.lie import SKEW, exp_blocks, log_rot, quat_exp, quat_of_mat
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading, new_base_state
 
 SYMMETRISE_EVERY = 16  # ticks between P <- (P + P^T) / 2 (round-off hygiene)
-
-
-def diagonal_view(a: np.ndarray) -> np.ndarray:
-    """Writable view (n,) of the diagonal of a square C-contiguous array (n, n)."""
-    n = a.shape[0]
-    return np.lib.stride_tricks.as_strided(a, shape=(n,), strides=((n + 1) * a.itemsize,))
-
-
-def move_origin(cov: np.ndarray, c: np.ndarray) -> None:
-    """In place: the covariance of the error when the positions' origin moves by ``c`` (3,) m,
-    ``P <- T P T^T`` with ``T = I + [-c^ in the (p, R), (d_L, R), (d_R, R) blocks]`` (rows 6:15 are
-    p, d_L, d_R; rows 0:3 the rotation; module docstring)."""
-    neg_skew = (c @ SKEW).reshape(3, 3).T  # (c @ SKEW) is c^ row-major; its transpose is -c^
-    rows = cov[0:3, :]
-    for j in (6, 9, 12):
-        cov[j : j + 3, :] += neg_skew @ rows
-    cols = cov[:, 0:3]
-    for j in (6, 9, 12):
-        cov[:, j : j + 3] += cols @ neg_skew.T
 
 
 class MeanArrays(NamedTuple):
@@ -109,32 +91,6 @@ class MeanArrays(NamedTuple):
     offset: np.ndarray  # (2, 3) [0; o]: [v; p] + offset is the world [v; p]
     ticks: np.ndarray  # (1,) int64 tick counter
     every: int  # ticks between corrections
-
-
-class _Pattern:
-    """Buffers of the correction for one set of measured feet: position rows (3 per foot), then,
-    with flat feet, orientation rows (3 per foot)."""
-
-    def __init__(self, measured: tuple[bool, bool], nx: int, flat: bool):
-        feet = [i for i in (0, 1) if measured[i]]
-        m = 3 * len(feet)
-        n = 2 * m if flat else m
-        self.ht = np.zeros((nx, n))  # H^T
-        for col, i in enumerate(feet):
-            for k in range(3):
-                self.ht[6 + k, 3 * col + k] = -1.0  # -xi_p
-                self.ht[9 + 3 * i + k, 3 * col + k] = 1.0  # +xi_di
-                if flat:
-                    self.ht[k, m + 3 * col + k] = -1.0  # -xi_R
-                    self.ht[15 + 3 * i + k, m + 3 * col + k] = 1.0  # +xi_Zi
-        self.h = np.ascontiguousarray(self.ht.T)
-        self.feet = feet
-        self.rows = slice(3 * feet[0], 3 * feet[-1] + 3)  # rows of a (6,) two-foot vector
-        pos_rep = np.repeat(feet, 3)
-        self.rep = np.concatenate([pos_rep, pos_rep + 2]) if flat else pos_rep  # index into [var, rot_var]
-        self.s = np.zeros((n, n))
-        self.s_diag = diagonal_view(self.s)
-        self.noise = np.zeros(n)  # measurement variances of these rows (set by the filter)
 
 
 class InvariantEKF:
@@ -198,7 +154,7 @@ class InvariantEKF:
         self._zdquat = np.empty(4)
         self._noise_of: np.ndarray | None = None  # the variance array the cached noise came from
         keys = ((True, False), (False, True), (True, True))
-        self._patterns = {key: _Pattern(key, nx, self.flat_feet) for key in keys}
+        self._patterns = {key: CorrectionPattern(key, nx, self.flat_feet) for key in keys}
         self.reset(np.eye(3), np.zeros(3))
 
     # ------------------------------------------------------------------ set-up
@@ -347,7 +303,7 @@ class InvariantEKF:
         move_origin(cov, -self._origin)
         return cov
 
-    def _correct(self, feet: FootKinematics, pat: _Pattern) -> None:
+    def _correct(self, feet: FootKinematics, pat: CorrectionPattern) -> None:
         vec, cov = self._vec, self.cov
         z2 = feet.pos.dot(self.rot.T)  # R y - (d - p), both feet
         z2 -= vec[2:4]
