@@ -59,6 +59,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gaitshift.common.rotations import rot2
 from gaitshift.control.cop_room import CopRoom
 from gaitshift.control.step_limits import StepLimits
 
@@ -95,8 +96,7 @@ def dcm_error_after(err: np.ndarray, growth: float, cop: np.ndarray, yaw: float)
     offset ``cop`` (2,) m from the planned ZMP (module docstring): ``e'= omega (e - c)`` integrated,
     per axis of the heading frame (heading ``yaw``, rad), and 0 on an axis where it would change sign.
     ``err``, ``cop`` and the result are world-frame."""
-    c, s = math.cos(yaw), math.sin(yaw)
-    rot = np.array([[c, -s], [s, c]])
+    rot = rot2(yaw)
     e, off = rot.T @ err, rot.T @ cop
     after = e * growth - off * (growth - 1.0)
     return np.asarray(rot @ np.where(after * e > 0.0, after, 0.0))
@@ -113,8 +113,7 @@ def predicted_error(err: np.ndarray, growth: float, room: np.ndarray, yaw: float
 def edge_offset(err: np.ndarray, room: np.ndarray, yaw: float) -> np.ndarray:
     """The CoP offset (2,) m, world frame, at the edge of the ``room`` (2,) m (half sizes along and
     across a sole of heading ``yaw``, rad) on the side of the error ``err`` (2,) m, per axis."""
-    c, s = math.cos(yaw), math.sin(yaw)
-    rot = np.array([[c, -s], [s, c]])
+    rot = rot2(yaw)
     return np.asarray(rot @ (np.sign(rot.T @ err) * room))
 
 
@@ -122,8 +121,7 @@ def taking_back(cop: np.ndarray, err: np.ndarray, yaw: float) -> np.ndarray:
     """The part (2,) m of a CoP offset ``cop`` (2,) m that takes the divergent-component error ``err``
     (2,) m back: per axis of the heading frame (heading ``yaw``, rad), the offset where it lies on the
     error's side, else 0 (module docstring). World frame in and out."""
-    c, s = math.cos(yaw), math.sin(yaw)
-    rot = np.array([[c, -s], [s, c]])
+    rot = rot2(yaw)
     off = rot.T @ cop
     return np.asarray(rot @ np.where(off * (rot.T @ err) > 0.0, off, 0.0))
 

@@ -135,7 +135,8 @@ class TickInfo:
         carries no load."""
         if self.contact_wrenches is None or side not in self.stance:
             return None
-        w = self.contact_wrenches[6 * self.stance.index(side) : 6 * self.stance.index(side) + 6]
+        j = 6 * self.stance.index(side)
+        w = self.contact_wrenches[j : j + 6]
         if w[2] <= 0.0:
             return None
         return np.array([-w[4] / w[2], w[3] / w[2]])

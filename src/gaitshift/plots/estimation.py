@@ -19,7 +19,6 @@ drift per metre, contact accuracy).
 from __future__ import annotations
 
 import json
-import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +30,7 @@ import numpy as np
 
 from gaitshift.errors import InputError
 from gaitshift.plots.files import save_figure
+from gaitshift.trajectory.formats import NPZ_ERRORS
 
 #: the arrays the figure reads
 KEYS = ("t", "qpos", "qvel", "contact", "grf", "est_qpos", "est_qvel", "est_contact")
@@ -121,7 +121,7 @@ def is_simulation_log(path: str | Path) -> bool:
     try:
         with np.load(path, allow_pickle=False) as z:
             return {"qpos", "fell", "meta"} <= set(z.files)
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError):
+    except NPZ_ERRORS:
         return False
 
 
@@ -135,12 +135,15 @@ def read_estimation_log(path: str | Path) -> tuple[dict[str, np.ndarray], dict[s
             not) or with arrays that do not fit.
     """
     allowed = "a simulation log of gaitshift simulate with the estimator's arrays (est_qpos, est_qvel, est_contact)"
-    with np.load(path, allow_pickle=False) as z:
-        missing = [k for k in KEYS if k not in z.files]
-        if missing:
-            raise InputError("input", str(path), f"{allowed}; missing {', '.join(missing)}")
-        a = {k: np.asarray(z[k]) for k in KEYS}
-        meta_text = str(z["meta"]) if "meta" in z.files else "{}"
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            missing = [k for k in KEYS if k not in z.files]
+            a = {k: np.asarray(z[k]) for k in KEYS if k in z.files}
+            meta_text = str(z["meta"]) if "meta" in z.files else "{}"
+    except NPZ_ERRORS:
+        raise InputError("input", str(path), f"{allowed}; this is not a readable .npz") from None
+    if missing:
+        raise InputError("input", str(path), f"{allowed}; missing {', '.join(missing)}")
     n = len(a["t"])
     shapes = {"qpos": 2, "qvel": 2, "est_qpos": 2, "est_qvel": 2, "contact": 2, "est_contact": 2, "grf": 3}
     fits = n >= 2 and all(a[k].ndim == d and len(a[k]) == n for k, d in shapes.items())
