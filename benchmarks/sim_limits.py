@@ -15,7 +15,9 @@ a 4-tick latency (with and without prediction); the largest ``rl-peer`` noise sc
 
 * Push: ``g1-push-recovery`` (12 running steps) with impulses (N s, 0.1 s) at mid-stance (single
   support) of running steps 4 and 8: ``lateral`` +y then -y, ``forward`` +x twice, ``backward`` -x
-  twice; the largest impulse survived without a fall is found by bisection (0.5 N s; the upper end
+  twice; the largest impulse survived without a fall, with the legs never touching each other and the
+  feet never passing through each other (``legs_touch_time`` and ``feet_overlap_time`` 0:
+  :mod:`gaitshift.sim.leg_clearance`), is found by bisection (0.5 N s; the upper end
   starts at 48 N s and doubles while survived), with the step adjustment
   (:mod:`gaitshift.control.feedback`) at its default gain (1) and off (gain 0).
 * Top speed: ``g1-top-speed`` with the planned speed v swept; each run takes the running timing of the
@@ -54,14 +56,17 @@ from gaitshift.sim.pushes import mid_stance_pushes
 
 def push_survived(traj, impulse, pattern, state, gain):
     """One run of ``traj`` with mid-stance pushes of ``impulse`` N s (``pattern`` of
-    :data:`gaitshift.sim.pushes.PATTERNS`) and the step adjustment gain ``gain`` (0: off)."""
+    :data:`gaitshift.sim.pushes.PATTERNS`) and the step adjustment gain ``gain`` (0: off): whether it
+    was survived cleanly (no fall, the legs clear of each other), whether it fell, the fall time (s,
+    nan without a fall) and the legs' contact and overlap times, s."""
     opts = SimOptions(
         pushes=mid_stance_pushes(traj, impulse, pattern=pattern),
         state=state,
         capture=replace(CaptureSettings(), gain=gain),
     )
     res = simulate(traj, opts)
-    return not res.fell, float(res.fall_time)
+    touch, overlap = res.metrics["legs_touch_time"], res.metrics["feet_overlap_time"]
+    return not res.fell and touch == 0.0 and overlap == 0.0, bool(res.fell), float(res.fall_time), touch, overlap
 
 
 def push_bisection(pattern, state, gain, lo=0.0, hi=48.0, tol=0.5, cap=192.0):
@@ -73,9 +78,21 @@ def push_bisection(pattern, state, gain, lo=0.0, hi=48.0, tol=0.5, cap=192.0):
 
     def probe(j):
         t0 = time.perf_counter()
-        ok, fall = push_survived(traj, j, pattern, state, gain)
-        rows.append({"impulse_Ns": j, "fell": not ok, "fall_time": fall, "wall_s": time.perf_counter() - t0})
-        print(f"  {pattern:8s} {state:9s} gain {gain:g}: {j:6.2f} N s {'ok' if ok else 'FELL'}", flush=True)
+        ok, fell, fall, touch, overlap = push_survived(traj, j, pattern, state, gain)
+        rows.append(
+            {
+                "impulse_Ns": j,
+                "held": ok,
+                "fell": fell,
+                "fall_time": fall,
+                "legs_touch_s": touch,
+                "feet_overlap_s": overlap,
+                "wall_s": time.perf_counter() - t0,
+            }
+        )
+        clash = f"legs touch {touch:.3f} s, feet overlap {overlap:.3f} s"
+        how = "ok" if ok else (f"FELL at {fall:.2f} s" if fell else clash)
+        print(f"  {pattern:8s} {state:9s} gain {gain:g}: {j:6.2f} N s {how}", flush=True)
         return ok
 
     while probe(hi):

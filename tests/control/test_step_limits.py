@@ -91,3 +91,29 @@ def test_the_correction_is_the_error_predicted_at_touchdown_on_the_other_foots_s
     plain = PlanShift(CaptureSettings(kinematic_limits=False, predict_touchdown=False), omega=omega)
     plain.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
     assert plain.offset[0][1] == pytest.approx(0.05)
+
+
+def test_a_foothold_one_sole_length_apart_may_line_up_with_the_other_foot_but_never_cross_it():
+    """Eq. (2): l_min = w side by side, 0 from |a| = L + c, continuous and non-increasing in between."""
+    lim = StepLimits(reach=1.0, hip_offset=0.06, min_width=0.07, sole_length=0.18, clearance=0.01)
+    com, right = np.array([0.1, 0.0, 0.6]), np.array([0.0, -0.12, 0.0])
+    ahead = lim.clamp(0, np.array([0.2, -0.3, 0.0]), com, 0.0, right)  # left foot aimed 0.18 m right of it
+    np.testing.assert_allclose(ahead, [0.2, -0.12, 0.0], atol=1e-12)  # in line: a tandem step, no crossing
+    beside = lim.clamp(0, np.array([0.05, -0.3, 0.0]), com, 0.0, right)
+    np.testing.assert_allclose(beside, [0.05, -0.12 + 0.07, 0.0], atol=1e-12)  # side by side: the sole width
+    gaps = [lim.min_gap(a) for a in np.linspace(-0.3, 0.3, 601)]
+    assert max(gaps) == 0.07 and min(gaps) == 0.0
+    assert np.max(np.abs(np.diff(gaps))) <= 0.07 * 0.001 / 0.01 + 1e-12  # continuous: slope w / c
+    for a in (0.0, 0.18, -0.18):
+        assert lim.min_gap(a) == 0.07  # the soles overlap along the heading: the full width
+    for a in (0.19, -0.19, 0.4):
+        assert lim.min_gap(a) == 0.0
+    # c = None (from_plant) and the bare limits keep the sole width at any distance
+    assert StepLimits(reach=1.0, hip_offset=0.06, min_width=0.07).min_gap(5.0) == 0.07
+
+
+def test_the_tandem_limits_come_from_the_robot_sole(g1):
+    lim = StepLimits.from_plant(g1, 0.62, 0.95, clearance=0.01)
+    assert (lim.sole_length, lim.min_width) == tuple(g1.robot.sole_size)
+    assert lim.min_gap(g1.robot.sole_size[0] + 0.01) == 0.0
+    assert StepLimits.from_plant(g1, 0.62, 0.95).min_gap(1.0) == g1.robot.sole_size[1]

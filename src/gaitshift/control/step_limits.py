@@ -14,9 +14,22 @@ A foothold ``p`` of leg ``s`` (horizontal, m) chosen by the step adjustment
   ``h_0 - z_{hip,0}`` below the CoM). The hip at touchdown is predicted to first order from the
   measured CoM, ``c + T cd`` (``T`` the time left to the planned touchdown), plus the hip's lateral
   offset ``+-w_hip`` from the CoM in the standing pose, turned by the heading yaw;
-* **no crossing**: in the heading frame, the lateral distance of the foothold from the other foot
-  (on the ground: measured; swinging: its own adjusted foothold) is at least the sole width, on the
-  foot's own side (left foot to the left).
+* **no crossing**: in the heading frame, the lateral distance ``l`` of the foothold from the other foot
+  (on the ground: measured; swinging: its own adjusted foothold), counted positive on the foot's own
+  side (left foot to the left), is at least
+
+  .. math:: l_{min}(a) = w\\,\\operatorname{clip}\\left(\\frac{L + c - |a|}{c}, 0, 1\\right),          (2)
+
+  with ``a`` the distance of the two sole centres along the heading, ``L`` x ``w`` the sole size and
+  ``c`` a toe-to-heel clearance (``CaptureSettings.tandem_clearance``). Side by side (``|a| <= L``) the
+  soles keep the full sole width between their centres, as before; one sole length plus ``c`` apart
+  (``|a| >= L + c``) a foot may step in line with the other one (a tandem step), never across it. In
+  between the two soles are apart along the heading and the bound ramps down, so a foothold that
+  re-targets mid-swing moves continuously. With ``c`` None the bound is ``w`` at every ``a`` (the feet
+  never line up). A tandem foothold is what catches a push toward the stance foot: the swinging foot
+  cannot land under a capture point beyond the stance sole, but in running the stance foot lifts off
+  before the other lands, and one stride ahead the swing foot can land on its line
+  (docs/simulation.md, "Pushes while running").
 
 Every number comes from the robot's model and YAML (:meth:`StepLimits.from_plant`).
 """
@@ -41,17 +54,23 @@ class StepLimits:
     Attributes:
         reach: r of eq. (1), m (horizontal, hip to sole centre).
         hip_offset: lateral distance from the CoM to each hip-pitch axis when standing, m.
-        min_width: smallest lateral distance between the two sole centres (the sole width), m.
+        min_width: smallest lateral distance between the two sole centres side by side (the sole
+            width w), m.
+        sole_length: the sole length L of eq. (2), m (inf: the feet never line up).
+        clearance: c of eq. (2), m.
     """
 
     reach: float
     hip_offset: float
     min_width: float
+    sole_length: float = math.inf
+    clearance: float = 0.0
 
     @classmethod
-    def from_plant(cls, plant: Any, height: float, reach_fraction: float) -> StepLimits:
+    def from_plant(cls, plant: Any, height: float, reach_fraction: float, clearance: float | None = None) -> StepLimits:
         """The limits of ``plant`` (a :class:`gaitshift.sim.plant.Plant`; its robot config and model in
-        the standing pose) for a plan of CoM height ``height`` (m), eq. (1)."""
+        the standing pose) for a plan of CoM height ``height`` (m), eq. (1), and the toe-to-heel
+        ``clearance`` (m) of eq. (2) (None: the feet never line up)."""
         robot, m = plant.robot, plant.model
         d, _ = standing_data(m, robot.standing_pose)
         hips = np.array([d.xanchor[m.joint(h).id] for h in robot.hips])
@@ -63,14 +82,25 @@ class StepLimits:
             reach=reach,
             hip_offset=float(np.abs(hips[:, 1] - com[1]).mean()),
             min_width=float(robot.sole_size[1]),
+            sole_length=math.inf if clearance is None else float(robot.sole_size[0]),
+            clearance=0.0 if clearance is None else float(clearance),
         )
+
+    def min_gap(self, along: float) -> float:
+        """l_min of eq. (2), m, for sole centres ``along`` m apart along the heading."""
+        if not math.isfinite(self.sole_length):
+            return self.min_width
+        if self.clearance <= 0.0:
+            return self.min_width if abs(along) <= self.sole_length else 0.0
+        ramp = (self.sole_length + self.clearance - abs(along)) / self.clearance
+        return self.min_width * min(max(ramp, 0.0), 1.0)
 
     def clamp(self, side: int, foothold: np.ndarray, hip_com: np.ndarray, yaw: float, other: np.ndarray) -> np.ndarray:
         """``foothold`` (3,) m of leg ``side`` (0 left, 1 right) moved into the reach disc around the
         predicted CoM ``hip_com`` (3,) m plus the hip offset, then out of the other foot's side of
-        ``other`` (3,) m (module docstring); z untouched."""
+        ``other`` (3,) m by eq. (2) (module docstring); z untouched."""
         c, s_ = math.cos(yaw), math.sin(yaw)
-        lateral = np.array([-s_, c])
+        forward, lateral = np.array([c, s_]), np.array([-s_, c])
         sign = 1.0 if side == 0 else -1.0
         hip = np.asarray(hip_com, float)[:2] + sign * self.hip_offset * lateral
         out = np.array(foothold, float)
@@ -78,7 +108,8 @@ class StepLimits:
         dist = float(np.linalg.norm(rel))
         if dist > self.reach:
             out[:2] = hip + rel * (self.reach / dist)
-        gap = sign * float(lateral @ (out[:2] - np.asarray(other, float)[:2]))
-        if gap < self.min_width:
-            out[:2] += sign * (self.min_width - gap) * lateral
+        rel_other = out[:2] - np.asarray(other, float)[:2]
+        gap, need = sign * float(lateral @ rel_other), self.min_gap(float(forward @ rel_other))
+        if gap < need:
+            out[:2] += sign * (need - gap) * lateral
         return out

@@ -17,7 +17,8 @@ class TickLog:
     ``contact_ref`` (planned) (2, bool), ``stance`` (controller, 2 bool), ``grf`` (measured) and
     ``grf_ref`` (QP) (2, 3) N, ``foot_pos`` (measured) and ``foot_ref`` (2, 3) sole centres, ``angmom``
     (3, centroidal angular momentum, kg m^2/s), ``plan_index`` (plan sample), ``com_shift`` (3, plan
-    shift of the step feedback), ``qp_ok`` (bool), ``push_force`` (3, N on the pelvis).
+    shift of the step feedback), ``qp_ok`` (bool), ``push_force`` (3, N on the pelvis), ``legs_touch`` and
+    ``feet_overlap`` (bool, :mod:`gaitshift.sim.leg_clearance`).
     """
 
     def __init__(self, n_ticks: int, model: mujoco.MjModel) -> None:
@@ -43,6 +44,8 @@ class TickLog:
             "com_shift": np.zeros((n, 3)),
             "qp_ok": np.zeros(n, bool),
             "push_force": np.zeros((n, 3)),
+            "legs_touch": np.zeros(n, bool),
+            "feet_overlap": np.zeros(n, bool),
         }
 
     def record(
@@ -59,9 +62,11 @@ class TickLog:
         contact_ref: np.ndarray,
         foot_pos: np.ndarray,
         push: np.ndarray,
+        clearance: np.ndarray,
     ) -> None:
         """Row ``k``: plan time ``t``, plan sample ``i``, the state in ``d`` (after ``mj_forward`` and
-        ``mj_subtreeVel``, before the step), the torques, contacts, reference and QP result."""
+        ``mj_subtreeVel``, before the step), the torques, contacts, reference and QP result, and the
+        legs' ``clearance`` (2,) bool (legs touch, feet overlap)."""
         a = self.data
         if k >= len(a["t"]):
             self._grow(2 * len(a["t"]))
@@ -85,6 +90,7 @@ class TickLog:
         a["plan_index"][k] = i
         a["qp_ok"][k] = info.ok
         a["push_force"][k] = push
+        a["legs_touch"][k], a["feet_overlap"][k] = clearance
 
     def _grow(self, n: int) -> None:
         """More rows (a run longer than allocated: a live session); new pushes are zero."""

@@ -49,6 +49,7 @@ from gaitshift.sim.bumps import Bump, check_bumps
 from gaitshift.sim.contacts import ContactSensor, fall_reason
 from gaitshift.sim.estimation_metrics import sensing_metrics
 from gaitshift.sim.initial_pose import initial_qpos
+from gaitshift.sim.leg_clearance import LegClearance
 from gaitshift.sim.log import TickLog
 from gaitshift.sim.metrics import summarize
 from gaitshift.sim.perturb import check_joint_vel_noise, check_mass_scale, scaled_masses
@@ -153,7 +154,7 @@ class _Run:
         self.ctrl = WholeBodyController(plant, q0, gains)
         self.sched = FootScheduler(traj, self.plan, opts.schedule, plant.mass * 9.81)
         height = float(traj.meta.get("height", traj.com_pos[0, 2]))
-        limits = StepLimits.from_plant(plant, height, opts.capture.reach_fraction)
+        limits = StepLimits.from_plant(plant, height, opts.capture.reach_fraction, opts.capture.tandem_clearance)
         half = np.asarray(traj.meta.get("foot_size", (0.0, 0.0)), float) / 2
         sole = (float(half[0]), float(half[1]))
         room = CopRoom.from_plant(plant, self.d, sole) if opts.capture.cop_room else sole
@@ -161,6 +162,7 @@ class _Run:
         self.shift = PlanShift(opts.capture, omega, limits, room, plant.mass * traj.gravity)
         self.last_info = TickInfo()  # the controller's last solve: the stance soles' CoP (commanded_cop)
         self.sensor = ContactSensor(plant)
+        self.clearance = LegClearance.of(plant)
         end = replanner.duration_bound if replanner is not None else float(traj.t[-1])
         self.n_ticks = round((end + opts.settle) / self.dt) + 1
         self.push = push_forces(opts.pushes, opts.settle, self.dt, self.n_ticks)
@@ -261,7 +263,8 @@ class _Run:
             for hook in self.hooks:
                 hook(k, tp, d)
             feet = np.array([self.plant.sole_frame(d, s)[0] for s in (0, 1)])
-            self.log.record(k, tp, i, d, tau, contacts, ref, info, shift, contact_ref, feet, push)
+            clear = self.clearance.read(d)
+            self.log.record(k, tp, i, d, tau, contacts, ref, info, shift, contact_ref, feet, push, clear)
             if video is not None:
                 video.capture(t, d, d.subtree_com[0].copy())
             if viewer is not None:

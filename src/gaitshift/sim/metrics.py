@@ -11,6 +11,8 @@
   generator reaches a command at the take-off of the second step after the one already planned),
   minus the command; the plan's own mean speed over the same window is reported alongside;
 * peak |tau| / tau_max over all joints and ticks;
+* ``legs_touch_time`` and ``feet_overlap_time``: how long the two legs touched each other, s
+  (:mod:`gaitshift.sim.leg_clearance`);
 * real-time factor = simulated time / wall time.
 """
 
@@ -144,6 +146,8 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
         "peak_torque_fraction": 0.0,
         "real_time_factor": float(result.meta.get("real_time_factor", 0.0)),
         "qp_failures": 0,
+        "legs_touch_time": 0.0,
+        "feet_overlap_time": 0.0,
     }
     if len(a["t"]) == 0:  # fell before the first control tick (t = 0)
         return out
@@ -162,6 +166,9 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
     out["peak_torque_fraction"] = float(np.max(np.abs(a["tau"]) / torque_limit))
     out["real_time_factor"] = float(result.meta["real_time_factor"])
     out["qp_failures"] = int(np.sum(~a["qp_ok"]))
+    dt = float(a["t"][1] - a["t"][0]) if len(a["t"]) > 1 else 0.0
+    for key in ("legs_touch", "feet_overlap"):  # logs older than these keys: 0
+        out[f"{key}_time"] = float(np.sum(a[key]) * dt) if key in a else 0.0
     # top speed held: mean forward CoM speed between consecutive planned touchdowns reached
     out["mean_forward_speed_max"] = float(np.max(_step_mean_speed(a, traj, land, t_end), initial=0.0))
     out.update(stride_speed_errors(a, traj))
@@ -210,6 +217,8 @@ def format_metrics(metrics: dict[str, Any]) -> str:
             )
         )
     rows.append(("QP failures", str(metrics.get("qp_failures", 0))))
+    touch, overlap = metrics.get("legs_touch_time", 0.0), metrics.get("feet_overlap_time", 0.0)
+    rows.append(("legs touch / feet overlap (s)", f"{touch:.3f} / {overlap:.3f}"))
     rows.append(("real-time factor", f"{metrics.get('real_time_factor', 0.0):.2f}"))
     w = max(len(r[0]) for r in rows)
     return "\n".join(f"{k.ljust(w)}  {v}" for k, v in rows)
