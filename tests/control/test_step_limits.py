@@ -93,27 +93,39 @@ def test_the_correction_is_the_error_predicted_at_touchdown_on_the_other_foots_s
     assert plain.offset[0][1] == pytest.approx(0.05)
 
 
-def test_a_foothold_one_sole_length_apart_may_line_up_with_the_other_foot_but_never_cross_it():
-    """Eq. (2): l_min = w side by side, 0 from |a| = L + c, continuous and non-increasing in between."""
-    lim = StepLimits(reach=1.0, hip_offset=0.06, min_width=0.07, sole_length=0.18, clearance=0.01)
+def test_a_foothold_a_short_step_from_the_other_foot_may_line_up_with_it_but_never_cross_it():
+    """Eq. (2): l_min = w max(clip((L + c - |a|) / c), clip((|a| - 2L - c) / c)): in line allowed for
+    L + c <= |a| <= 2L + c, the sole width side by side and on long steps; continuous in a."""
+    w, length, c = 0.07, 0.18, 0.01
+    lim = StepLimits(reach=1.0, hip_offset=0.06, min_width=w, sole_length=length, clearance=c)
     com, right = np.array([0.1, 0.0, 0.6]), np.array([0.0, -0.12, 0.0])
-    ahead = lim.clamp(0, np.array([0.2, -0.3, 0.0]), com, 0.0, right)  # left foot aimed 0.18 m right of it
-    np.testing.assert_allclose(ahead, [0.2, -0.12, 0.0], atol=1e-12)  # in line: a tandem step, no crossing
+    # asked 0.18 m across the right foot, a short step (0.2 m) ahead of it: in line, a tandem step
+    ahead = lim.clamp(0, np.array([0.2, -0.3, 0.0]), com, 0.0, right)
+    np.testing.assert_allclose(ahead, [0.2, -0.12, 0.0], atol=1e-12)
+    # the same ask side by side, or a long step (0.5 m) ahead: the sole width
     beside = lim.clamp(0, np.array([0.05, -0.3, 0.0]), com, 0.0, right)
-    np.testing.assert_allclose(beside, [0.05, -0.12 + 0.07, 0.0], atol=1e-12)  # side by side: the sole width
-    gaps = [lim.min_gap(a) for a in np.linspace(-0.3, 0.3, 601)]
-    assert max(gaps) == 0.07 and min(gaps) == 0.0
-    assert np.max(np.abs(np.diff(gaps))) <= 0.07 * 0.001 / 0.01 + 1e-12  # continuous: slope w / c
-    for a in (0.0, 0.18, -0.18):
-        assert lim.min_gap(a) == 0.07  # the soles overlap along the heading: the full width
-    for a in (0.19, -0.19, 0.4):
-        assert lim.min_gap(a) == 0.0
+    np.testing.assert_allclose(beside, [0.05, -0.12 + w, 0.0], atol=1e-12)
+    far = lim.clamp(0, np.array([0.5, -0.3, 0.0]), com, 0.0, right)
+    np.testing.assert_allclose(far, [0.5, -0.12 + w, 0.0], atol=1e-12)
+    for a in (0.0, 0.18, -0.18, 0.38, -0.5):
+        assert lim.min_gap(a) == w
+    for a in (0.19, -0.19, 0.3, -0.365):
+        assert lim.min_gap(a) == pytest.approx(0.0, abs=1e-12)
+    assert lim.min_gap(0.185) == pytest.approx(0.5 * w) and lim.min_gap(0.375) == pytest.approx(0.5 * w)
+    gaps = np.array([lim.min_gap(a) for a in np.linspace(-0.6, 0.6, 1201)])
+    assert np.max(np.abs(np.diff(gaps))) <= w * 0.001 / c + 1e-12  # continuous: slope w / c
+    # the clamped distance never decreases as the ask moves to the foot's own side
+    out = [lim.clamp(0, np.array([0.3, -0.12 + dl, 0.0]), com, 0.0, right)[1] for dl in np.linspace(-0.3, 0.3, 601)]
+    assert np.all(np.diff(out) >= -1e-12)
     # c = None (from_plant) and the bare limits keep the sole width at any distance
-    assert StepLimits(reach=1.0, hip_offset=0.06, min_width=0.07).min_gap(5.0) == 0.07
+    assert StepLimits(reach=1.0, hip_offset=0.06, min_width=w).min_gap(0.3) == w
 
 
 def test_the_tandem_limits_come_from_the_robot_sole(g1):
     lim = StepLimits.from_plant(g1, 0.62, 0.95, clearance=0.01)
-    assert (lim.sole_length, lim.min_width) == tuple(g1.robot.sole_size)
-    assert lim.min_gap(g1.robot.sole_size[0] + 0.01) == 0.0
-    assert StepLimits.from_plant(g1, 0.62, 0.95).min_gap(1.0) == g1.robot.sole_size[1]
+    length, width = g1.robot.sole_size
+    assert (lim.sole_length, lim.min_width) == (length, width)
+    assert lim.min_gap(length + 0.01) == pytest.approx(0.0, abs=1e-12)
+    assert lim.min_gap(2 * length + 0.005) == pytest.approx(0.0, abs=1e-12)
+    assert lim.min_gap(2 * length + 0.02) == width
+    assert StepLimits.from_plant(g1, 0.62, 0.95).min_gap(0.3) == width

@@ -13,7 +13,8 @@ Metrics (simulate and closed-loop reference): ``fell``, ``t_fall`` (s of plan ti
 pelvis yaw error, rad), ``flight_ratio`` (achieved / planned flight), ``peak_torque_fraction`` (max
 |tau| / tau_max), ``joint_speed_fraction`` (max |q̇_j| / limit_j over joints with a limit; for plans:
 of the whole-body IK at 100 Hz), ``steps_completed`` / ``steps_planned``, ``plan_gaits`` (the gaits
-the plan uses, "walk", "run" or "walk+run"), ``plan_duration`` and
+the plan uses, "walk", "run" or "walk+run"), ``legs_touch_time`` and ``feet_overlap_time`` (s the
+two legs touched each other, :mod:`gaitshift.sim.leg_clearance`), ``plan_duration`` and
 ``sim_time`` (s), ``wall_time`` and ``cpu_time`` (s of this process for the whole case: elapsed, and
 CPU time of the process, which is what a shared machine's load does not inflate).
 """
@@ -45,6 +46,8 @@ METRICS: dict[str, str] = {
     "joint_speed_fraction": "float64",
     "steps_completed": "int64",
     "steps_planned": "int64",
+    "legs_touch_time": "float64",
+    "feet_overlap_time": "float64",
     "plan_gaits": "string",
     "plan_duration": "float64",
     "sim_time": "float64",
@@ -137,6 +140,8 @@ def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], 
         "joint_speed_fraction": _joint_speed_fraction(cfg, res.arrays["qvel"]),
         "steps_completed": int(m.get("steps_completed", 0)),
         "steps_planned": int(m.get("steps_planned", 0)),
+        "legs_touch_time": _finite(m.get("legs_touch_time")),
+        "feet_overlap_time": _finite(m.get("feet_overlap_time")),
         **_plan_facts(replanner.trajectory if replanner else traj),
         "sim_time": float(res.meta["sim_time_s"]),
     }

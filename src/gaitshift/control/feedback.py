@@ -89,10 +89,10 @@ class CaptureSettings:
     # On: g1-stairs-down holds on seeds 0-5, its last stance 0.23-0.24 m wide (off: seeds 0 and 5, the
     # last stance up to 0.65 m wide; docs/simulation.md, "Fifth pass")
     commanded_cop: bool = True
-    # toe-to-heel clearance, m, from which a foothold one sole length ahead of (or behind) the other
-    # foot may line up with it (step_limits eq. 2); None: the sole width side to side at any distance.
-    # Lateral pushes toward the stance foot while running: 22.1 N s held with None, see
-    # docs/simulation.md ("Pushes while running")
+    # clearance c, m, of the tandem step: a foothold a short step (L + c to 2L + c along the heading, L
+    # the sole length) from the other foot may land in line with it, never across (step_limits eq. 2);
+    # None: the sole width at any distance. Lateral pushes toward the stance foot while running:
+    # 22.1 N s held with None (estimated and oracle), docs/simulation.md ("Pushes while running")
     tandem_clearance: float | None = 0.01
 
 

@@ -18,18 +18,26 @@ A foothold ``p`` of leg ``s`` (horizontal, m) chosen by the step adjustment
   (on the ground: measured; swinging: its own adjusted foothold), counted positive on the foot's own
   side (left foot to the left), is at least
 
-  .. math:: l_{min}(a) = w\\,\\operatorname{clip}\\left(\\frac{L + c - |a|}{c}, 0, 1\\right),          (2)
+  .. math:: l_{min}(a) = w \\max\\left(\\operatorname{clip}\\left(\\frac{L + c - |a|}{c}, 0, 1\\right),
+            \\operatorname{clip}\\left(\\frac{|a| - 2L - c}{c}, 0, 1\\right)\\right),          (2)
 
   with ``a`` the distance of the two sole centres along the heading, ``L`` x ``w`` the sole size and
-  ``c`` a toe-to-heel clearance (``CaptureSettings.tandem_clearance``). Side by side (``|a| <= L``) the
-  soles keep the full sole width between their centres, as before; one sole length plus ``c`` apart
-  (``|a| >= L + c``) a foot may step in line with the other one (a tandem step), never across it. In
-  between the two soles are apart along the heading and the bound ramps down, so a foothold that
-  re-targets mid-swing moves continuously. With ``c`` None the bound is ``w`` at every ``a`` (the feet
-  never line up). A tandem foothold is what catches a push toward the stance foot: the swinging foot
-  cannot land under a capture point beyond the stance sole, but in running the stance foot lifts off
-  before the other lands, and one stride ahead the swing foot can land on its line
-  (docs/simulation.md, "Pushes while running").
+  ``c`` a clearance (``CaptureSettings.tandem_clearance``): the full sole width ``w`` between the
+  centres, except where the foot lands a short step ahead of (or behind) the other one,
+  ``L + c <= |a| <= 2L + c`` (its toe at least ``c`` short of the other heel, and at most one more
+  sole length beyond it); there it may land in line with the other foot (a tandem step, ``l = 0``),
+  never across it. The ramps of width ``c`` keep the bound continuous, so a foothold re-targeted
+  mid-swing moves continuously. A tandem step is what catches a push toward the stance foot while
+  running: the swinging foot cannot land under a capture point beyond the stance sole, but the stance
+  foot lifts off before the other lands, and a stride ahead the swing foot can land on its line; the
+  other foot's next swing then passes it on the outside. Why short steps only: the other leg's next
+  swing passes the lined-up foot, and on a long stride it swings through with its knee well ahead of
+  its foot, so it passes the stance leg before its foot has moved out. Measured on the G1
+  (docs/simulation.md, "Pushes while running"): lined up at ``|a|`` = 0.22-0.24 m (0.2 m stride) the
+  legs never touched up to 27 N s pushes; lined up at ``|a|`` = 0.56-0.78 m (2.05 m/s, 0.82 m stride)
+  they touched and the robot fell. The upper end ``2L + c`` (0.37 m on the G1) is a choice between
+  the two, not a derived bound. With ``c`` None the bound is ``w`` everywhere (the guard before
+  tandem steps).
 
 Every number comes from the robot's model and YAML (:meth:`StepLimits.from_plant`).
 """
@@ -57,7 +65,7 @@ class StepLimits:
         min_width: smallest lateral distance between the two sole centres side by side (the sole
             width w), m.
         sole_length: the sole length L of eq. (2), m (inf: the feet never line up).
-        clearance: c of eq. (2), m.
+        clearance: c of eq. (2), m (> 0).
     """
 
     reach: float
@@ -90,10 +98,10 @@ class StepLimits:
         """l_min of eq. (2), m, for sole centres ``along`` m apart along the heading."""
         if not math.isfinite(self.sole_length):
             return self.min_width
-        if self.clearance <= 0.0:
-            return self.min_width if abs(along) <= self.sole_length else 0.0
-        ramp = (self.sole_length + self.clearance - abs(along)) / self.clearance
-        return self.min_width * min(max(ramp, 0.0), 1.0)
+        c, a, length = max(self.clearance, 1e-9), abs(along), self.sole_length
+        apart = min(max((length + c - a) / c, 0.0), 1.0)
+        long = min(max((a - 2.0 * length - c) / c, 0.0), 1.0)
+        return self.min_width * max(apart, long)
 
     def clamp(self, side: int, foothold: np.ndarray, hip_com: np.ndarray, yaw: float, other: np.ndarray) -> np.ndarray:
         """``foothold`` (3,) m of leg ``side`` (0 left, 1 right) moved into the reach disc around the
