@@ -95,6 +95,20 @@ def test_tilt_torque_and_qp_failures_are_reported_as_made(run_plan):
     assert met["max_pelvis_tilt_deg"] == pytest.approx(10.0, abs=1e-9)
     assert met["peak_torque_fraction"] == pytest.approx(0.73)
     assert met["qp_failures"] == 5
+    assert met["legs_touch_time"] == 0.0 and met["feet_overlap_time"] == 0.0  # a log without the keys
+
+
+def test_leg_clearance_times_are_the_logged_ticks_times_the_period(run_plan):
+    traj = run_plan
+    result = replay(traj)
+    a = result.arrays
+    n, dt = len(a["t"]), float(traj.t[1] - traj.t[0])
+    a["legs_touch"], a["feet_overlap"] = np.zeros(n, bool), np.zeros(n, bool)
+    a["legs_touch"][50:57] = True
+    a["feet_overlap"][[10, 400]] = True
+    met = summarize(result, traj, LIMIT)
+    assert met["legs_touch_time"] == pytest.approx(7 * dt) and met["feet_overlap_time"] == pytest.approx(2 * dt)
+    assert "legs touch / feet overlap (s)" in format_metrics(met)
 
 
 def test_a_run_that_ends_early_completes_only_the_touchdowns_before_its_end(run_plan):
