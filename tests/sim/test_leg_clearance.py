@@ -53,8 +53,10 @@ def test_the_footprint_overlap_is_the_separating_axis_test_of_the_two_rectangles
 def test_standing_feet_are_clear_and_crossed_legs_touch_and_overlap(g1):
     m = g1.model
     lc = LegClearance.of(g1)
-    assert {m.body(b).name for b in lc.legs[0]} >= {"left_hip_pitch_link", "left_knee_link", "left_ankle_roll_link"}
-    assert not lc.legs[0] & lc.legs[1]
+    left, right = (frozenset(np.flatnonzero(lc.leg_of == s)) for s in (0, 1))
+    assert {m.body(b).name for b in left} >= {"left_hip_pitch_link", "left_knee_link", "left_ankle_roll_link"}
+    assert {m.body(b).name for b in right} >= {"right_hip_pitch_link", "right_knee_link", "right_ankle_roll_link"}
+    assert "pelvis" not in {m.body(b).name for b in left | right}
     d = mujoco.MjData(m)
     d.qpos[:] = standing_qpos(g1)
     mujoco.mj_forward(m, d)

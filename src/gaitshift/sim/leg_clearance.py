@@ -75,12 +75,12 @@ class LegClearance:
     """The two checks of the module docstring on one plant.
 
     Attributes:
-        plant: the plant; legs: body ids of the left and right legs; half: the sole's half length and
-            half width, m; depth: ``h_f``, m.
+        plant: the plant; leg_of: (nbody,) the leg of each body (0 left, 1 right, -1 neither); half:
+            the sole's half length and half width, m; depth: ``h_f``, m.
     """
 
     plant: Plant
-    legs: tuple[frozenset[int], frozenset[int]]
+    leg_of: np.ndarray
     half: np.ndarray
     depth: float
 
@@ -88,30 +88,30 @@ class LegClearance:
     def of(cls, plant: Plant) -> LegClearance:
         """The checks for ``plant``: legs from its kinematic tree, footprint from its robot's YAML."""
         soles = plant.soles
-        feet = (soles[0].body, soles[1].body)
         depth = float(np.mean([abs((s.rotation.T @ s.centre)[2]) for s in soles]))
         half = np.asarray(plant.robot.sole_size, float) / 2
-        return cls(plant, leg_bodies(plant.model, feet), half, depth)
+        leg_of = np.full(plant.model.nbody, -1)
+        for side, members in enumerate(leg_bodies(plant.model, (soles[0].body, soles[1].body))):
+            leg_of[sorted(members)] = side
+        return cls(plant, leg_of, half, depth)
 
     def legs_touch(self, d: mujoco.MjData) -> bool:
         """A MuJoCo contact between the two legs in ``d`` (after ``mj_forward``)."""
-        body = self.plant.model.geom_bodyid
-        left, right = self.legs
-        for ci in range(d.ncon):
-            b1, b2 = int(body[d.contact[ci].geom[0]]), int(body[d.contact[ci].geom[1]])
-            if (b1 in left and b2 in right) or (b1 in right and b2 in left):
-                return True
-        return False
+        if d.ncon == 0:
+            return False
+        legs = self.leg_of[self.plant.model.geom_bodyid[d.contact.geom[: d.ncon]]]  # (ncon, 2)
+        return bool(np.any((legs[:, 0] >= 0) & (legs[:, 1] >= 0) & (legs[:, 0] != legs[:, 1])))
 
     def feet_overlap(self, d: mujoco.MjData) -> bool:
         """The feet pass through each other in ``d`` (module docstring)."""
         frames = [self.plant.sole_frame(d, s) for s in (0, 1)]
-        z = [float(c[2]) for c, _ in frames]
-        if abs(z[0] - z[1]) >= self.depth:
+        (c0, r0), (c1, r1) = frames
+        if abs(float(c0[2] - c1[2])) >= self.depth:
             return False
-        axes = np.array([r[:2, 0] / max(float(np.linalg.norm(r[:2, 0])), 1e-9) for _, r in frames])
-        centres = np.array([c[:2] for c, _ in frames])
-        return footprints_overlap(centres, axes, self.half)
+        if float(np.hypot(c0[0] - c1[0], c0[1] - c1[1])) >= 2.0 * float(np.hypot(*self.half)):
+            return False  # farther apart than the two footprints' circumscribed circles
+        axes = np.array([r[:2, 0] / max(float(np.linalg.norm(r[:2, 0])), 1e-9) for r in (r0, r1)])
+        return footprints_overlap(np.array([c0[:2], c1[:2]]), axes, self.half)
 
     def read(self, d: mujoco.MjData) -> np.ndarray:
         """(2,) bool: legs touch, feet overlap."""

@@ -21,7 +21,8 @@ class SimResult:
     File keys (``save``): the arrays (``t``, ``qpos``, ``qvel``, ``tau``, ``com_pos``, ``com_ref`` (the
     reference tracked: plan + capture-point shift), ``com_vel``, ``com_vel_ref``, ``contact`` (measured),
     ``contact_ref``, ``stance`` (controller), ``grf`` (N, 2, 3) measured, ``grf_ref`` (QP), ``foot_pos``,
-    ``foot_ref``, ``angmom``, ``com_shift``, ``plan_index``, ``qp_ok``, ``push_force``; see
+    ``foot_ref``, ``angmom``, ``com_shift``, ``plan_index``, ``qp_ok``, ``push_force``, ``legs_touch``,
+    ``feet_overlap``; see
     :mod:`gaitshift.sim.log`), ``fell``, ``fall_time`` (s; -1 when the robot did not fall) and ``meta``
     (strict JSON, with the metrics).
     """
