@@ -46,6 +46,8 @@ import yaml
 
 import gaitshift
 from gaitshift.api import robot_facts
+from gaitshift.common.atomic import atomic_path
+from gaitshift.common.jsonsafe import finite_json
 from gaitshift.control.drivers import driver_for
 from gaitshift.control.feedback import CaptureSettings
 from gaitshift.gait.run_timing import running_timing
@@ -276,7 +278,8 @@ def main() -> None:
         out["envelope"] = envelope_rows(args.states)
     if args.sensing or args.only_sensing:
         out["sensing"] = sensing_rows(args.states)
-    args.out.write_text(json.dumps(out, indent=2, default=str))
+    with atomic_path(args.out) as tmp:  # strict JSON: a NaN (no fall, no speed measured) is null
+        tmp.write_text(json.dumps(finite_json(out), indent=2, default=str, allow_nan=False))
     print(f"-> {args.out}")
 
 
