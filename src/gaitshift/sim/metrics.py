@@ -166,7 +166,8 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
     out["peak_torque_fraction"] = float(np.max(np.abs(a["tau"]) / torque_limit))
     out["real_time_factor"] = float(result.meta["real_time_factor"])
     out["qp_failures"] = int(np.sum(~a["qp_ok"]))
-    dt = float(a["t"][1] - a["t"][0]) if len(a["t"]) > 1 else 0.0
+    period = result.meta.get("control_period")  # not a difference of t: plan time stalls while settling
+    dt = float(period) if period else (float(np.median(np.diff(a["t"]))) if len(a["t"]) > 1 else 0.0)
     for key in ("legs_touch", "feet_overlap"):  # logs older than these keys: 0
         out[f"{key}_time"] = float(np.sum(a[key]) * dt) if key in a else 0.0
     # top speed held: mean forward CoM speed between consecutive planned touchdowns reached
