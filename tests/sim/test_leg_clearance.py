@@ -18,6 +18,10 @@ def g1():
     return build_plant()
 
 
+def _frames(plant, d):
+    return [plant.sole_frame(d, s) for s in (0, 1)]
+
+
 def _sampled_overlap(centres, axes, half, n=81):
     """Brute force: does a grid point of either rectangle lie inside the other?"""
     u = np.linspace(-1.0, 1.0, n)
@@ -60,15 +64,15 @@ def test_standing_feet_are_clear_and_crossed_legs_touch_and_overlap(g1):
     d = mujoco.MjData(m)
     d.qpos[:] = standing_qpos(g1)
     mujoco.mj_forward(m, d)
-    assert lc.read(d).tolist() == [False, False]
+    assert lc.read(d, _frames(g1, d)).tolist() == [False, False]
     # adduct both hips: the legs swing into each other and the feet cross
     for name, sign in (("left_hip_roll_joint", -1.0), ("right_hip_roll_joint", 1.0)):
         d.qpos[m.joint(name).qposadr[0]] = sign * 0.35
     mujoco.mj_forward(m, d)
     assert lc.legs_touch(d)
-    assert lc.feet_overlap(d)
+    assert lc.feet_overlap(_frames(g1, d))
     # the same feet, one lifted above the other foot's depth: not overlapping any more
     left_ankle = m.joint("left_hip_pitch_joint").qposadr[0]
     d.qpos[left_ankle] = -1.2  # hip flexed: the left foot swings forward and up
     mujoco.mj_forward(m, d)
-    assert not lc.feet_overlap(d)
+    assert not lc.feet_overlap(_frames(g1, d))

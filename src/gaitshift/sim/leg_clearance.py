@@ -21,6 +21,7 @@ Neither is told to the controller: the step limits that keep feet apart
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import mujoco
@@ -102,9 +103,9 @@ class LegClearance:
         legs = self.leg_of[self.plant.model.geom_bodyid[d.contact.geom[: d.ncon]]]  # (ncon, 2)
         return bool(np.any((legs[:, 0] >= 0) & (legs[:, 1] >= 0) & (legs[:, 0] != legs[:, 1])))
 
-    def feet_overlap(self, d: mujoco.MjData) -> bool:
-        """The feet pass through each other in ``d`` (module docstring)."""
-        frames = [self.plant.sole_frame(d, s) for s in (0, 1)]
+    def feet_overlap(self, frames: Sequence[tuple[np.ndarray, np.ndarray]]) -> bool:
+        """The feet pass through each other (module docstring), given both sole ``frames`` (left,
+        right) as :meth:`Plant.sole_frame` gives them: centre (3,) m and rotation (3, 3)."""
         (c0, r0), (c1, r1) = frames
         if abs(float(c0[2] - c1[2])) >= self.depth:
             return False
@@ -113,6 +114,6 @@ class LegClearance:
         axes = np.array([r[:2, 0] / max(float(np.linalg.norm(r[:2, 0])), 1e-9) for r in (r0, r1)])
         return footprints_overlap(np.array([c0[:2], c1[:2]]), axes, self.half)
 
-    def read(self, d: mujoco.MjData) -> np.ndarray:
-        """(2,) bool: legs touch, feet overlap."""
-        return np.array([self.legs_touch(d), self.feet_overlap(d)])
+    def read(self, d: mujoco.MjData, frames: Sequence[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+        """(2,) bool: legs touch in ``d``, feet overlap at the sole ``frames`` of ``d``."""
+        return np.array([self.legs_touch(d), self.feet_overlap(frames)])

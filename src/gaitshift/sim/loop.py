@@ -262,8 +262,9 @@ class _Run:
             tau, ref, info, shift, contact_ref, push = self.control(k, tp, i, view)
             for hook in self.hooks:
                 hook(k, tp, d)
-            feet = np.array([self.plant.sole_frame(d, s)[0] for s in (0, 1)])
-            clear = self.clearance.read(d)
+            frames = [self.plant.sole_frame(d, s) for s in (0, 1)]
+            feet = np.array([centre for centre, _ in frames])
+            clear = self.clearance.read(d, frames)
             self.log.record(k, tp, i, d, tau, contacts, ref, info, shift, contact_ref, feet, push, clear)
             if video is not None:
                 video.capture(t, d, d.subtree_com[0].copy())

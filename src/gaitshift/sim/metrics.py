@@ -59,10 +59,17 @@ def _com_tracking(a: dict[str, np.ndarray], labels: np.ndarray) -> dict[str, Any
     }
 
 
-def _flight(a: dict[str, np.ndarray], traj: Trajectory, land: np.ndarray, t_end: float) -> dict[str, Any]:
-    """Planned vs achieved flight durations (see module docstring); {} when no flight was reached."""
+def _period(result: SimResult) -> float:
+    """The run's control period, s: from its meta, else the median step of its times (plan time
+    stalls while the robot settles, so a difference of two times can be 0)."""
+    period, t = result.meta.get("control_period"), result.arrays["t"]
+    return float(period) if period else (float(np.median(np.diff(t))) if len(t) > 1 else 0.0)
+
+
+def _flight(a: dict[str, np.ndarray], traj: Trajectory, land: np.ndarray, t_end: float, dt: float) -> dict[str, Any]:
+    """Planned vs achieved flight durations (see module docstring), ``dt`` the control period (s); {}
+    when no flight was reached."""
     tt = a["t"]
-    dt = float(tt[1] - tt[0]) if len(tt) > 1 else 0.0
     air_runs = [(tt[s], tt[e - 1] + dt) for s, e in true_runs(~np.any(a["contact"], axis=1))]
     fs = traj.footsteps
     stride = np.linalg.norm(np.diff(fs[:, :2], axis=0), axis=1) if len(fs) > 1 else np.zeros(0)
@@ -156,7 +163,8 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
     t_end = float(a["t"][-1])
     out["steps_planned"] = len(land)
     out["steps_completed"] = int(np.sum(traj.t[land] <= t_end))
-    out.update(_flight(a, traj, land, t_end))
+    dt = _period(result)
+    out.update(_flight(a, traj, land, t_end, dt))
     errs = _speed_errors(a, traj, t_end)
     out["speed_errors"] = errs
     out["speed_error_max"] = float(max((abs(e[3]) for e in errs), default=math.nan))
@@ -166,8 +174,6 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
     out["peak_torque_fraction"] = float(np.max(np.abs(a["tau"]) / torque_limit))
     out["real_time_factor"] = float(result.meta["real_time_factor"])
     out["qp_failures"] = int(np.sum(~a["qp_ok"]))
-    period = result.meta.get("control_period")  # not a difference of t: plan time stalls while settling
-    dt = float(period) if period else (float(np.median(np.diff(a["t"]))) if len(a["t"]) > 1 else 0.0)
     for key in ("legs_touch", "feet_overlap"):  # logs older than these keys: 0
         out[f"{key}_time"] = float(np.sum(a[key]) * dt) if key in a else 0.0
     # top speed held: mean forward CoM speed between consecutive planned touchdowns reached
