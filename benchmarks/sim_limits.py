@@ -45,16 +45,15 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import yaml
 
 import gaitshift
-from gaitshift.api import robot_facts
 from gaitshift.common.atomic import atomic_path
 from gaitshift.common.jsonsafe import finite_json
-from gaitshift.control.drivers import driver_for
 from gaitshift.control.feedback import CaptureSettings
 from gaitshift.gait.run_timing import running_timing
 from gaitshift.robots.config import load_robot
 from gaitshift.scenario.loader import builtin_names, builtin_text, load_scenario
 from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.pushes import mid_stance_pushes
+from gaitshift.sim.scenario_run import simulate_scenario
 
 
 def push_survived(traj, impulse, pattern, state, gain):
@@ -137,9 +136,8 @@ def speed_sweep(speeds, state="oracle", law=True):
             profile=dict(base["profile"], max_stride=s),
             name=f"g1-top-speed-{v}",
         )
-        sc = load_scenario(data)
-        traj = gaitshift.plan(sc)
-        res = simulate(traj, SimOptions(state=state))
+        sim = simulate_scenario(load_scenario(data), state=state)
+        sc, traj, res = sim.scenario, sim.plan, sim.result
         planned = round(s / (sc.timing.single_support + sc.timing.flight), 3)
         # constant-stride steps: footholds whose stride equals the maximum
         fs = traj.footsteps[2:-1, 0]
@@ -185,9 +183,7 @@ def speed_sweep(speeds, state="oracle", law=True):
 
 def run(name, **kw):
     """One closed-loop run of scenario ``name`` (re-planned if it is an online or locomotion plan)."""
-    sc = load_scenario(name)
-    drv = driver_for(sc, robot_facts(sc), 0.002)
-    res = simulate(drv.trajectory if drv else gaitshift.plan(sc), SimOptions(**kw), replanner=drv)
+    res = simulate_scenario(name, **kw).result
     m = res.metrics
     row = {"scenario": name, **kw, "fell": bool(res.fell), "fall_time": float(res.fall_time)}
     row["estimation"] = m["estimation"]

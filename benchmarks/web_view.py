@@ -46,7 +46,7 @@ import zstandard
 from gaitshift.control.locomotion_driver import LocomotionDriver
 from gaitshift.robots import load_robot
 from gaitshift.scenario import load_scenario
-from gaitshift.sim.loop import SimOptions, simulate
+from gaitshift.sim.scenario_run import simulate_scenario
 from gaitshift.sim.teleop import Session
 from gaitshift.sim.web import CommandRange, WebView
 
@@ -104,7 +104,7 @@ def run_no_view() -> dict[str, float]:
     """A run without a view (walk at 0.2 m/s for 6 s, stop): process CPU s per simulated s, real-time factor."""
     drv, session, cfg = _session([("up", 0.0), ("up", 0.0), ("wait", 6.0), ("quit", 0.0)])
     c0 = time.process_time()
-    r = simulate(drv.trajectory, SimOptions(control_period=0.002), replanner=drv, hooks=[session], robot=cfg)
+    r = simulate_scenario(drv.sc, cfg, driver=drv, hooks=[session], control_period=0.002).result
     return {"cpu_per_s": (time.process_time() - c0) / r.meta["sim_time_s"], "rtf": float(r.meta["real_time_factor"])}
 
 
@@ -145,9 +145,9 @@ def run_view(backend: str, pw: Any, cpu_per_s: float, shot: Path | None) -> dict
     page.get_by_text("waiting for the simulation").wait_for(timeout=60_000)
     result: dict[str, Any] = {}
     c0 = time.process_time()
-    opts = SimOptions(control_period=0.002)
+    opts = {"control_period": 0.002}
     sim = threading.Thread(
-        target=lambda: result.update(r=simulate(drv.trajectory, opts, replanner=drv, hooks=[session, view], robot=cfg))
+        target=lambda: result.update(r=simulate_scenario(drv.sc, cfg, driver=drv, hooks=[session, view], **opts).result)
     )
     sim.start()
     page.get_by_text("commanded: vx = +0.00").wait_for(timeout=180_000)

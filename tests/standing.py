@@ -5,7 +5,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from gaitshift.sim.plant import build_plant, standing_qpos
+from gaitshift.robots.model import standing_qpos
+from gaitshift.sim.plant import build_plant
 
 
 def standing(control_period=0.002):

@@ -42,7 +42,7 @@ LAYERS: dict[str, int] = {
     "analysis": 4,
     "robots": 5,
     "api": 6,
-    "": 6,  # the package itself: gaitshift.plan, gaitshift.load_scenario, ...
+    "": 10,  # the package itself, the public API: gathers the entry points of every layer below the CLI
     "wholebody": 7,
     "control": 8,
     "sim": 9,

@@ -9,7 +9,8 @@ import pytest
 
 from gaitshift.control.cop_room import MIN_ARM, CopRoom
 from gaitshift.robots import load_robot
-from gaitshift.sim.plant import build_plant, standing_qpos
+from gaitshift.robots.model import standing_qpos
+from gaitshift.sim.plant import build_plant
 
 
 def _standing(robot: str) -> tuple[object, mujoco.MjData]:

@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from gaitshift.control.wbc import TickReference, WholeBodyController
+from gaitshift.robots.model import standing_qpos
 from gaitshift.sim.contacts import FALL_HEIGHT_FRACTION, ContactSensor, FootContacts, fall_reason
-from gaitshift.sim.plant import build_plant, standing_qpos
+from gaitshift.sim.plant import build_plant
 from standing import standing
 
 

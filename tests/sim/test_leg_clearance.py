@@ -9,8 +9,9 @@ import mujoco
 import numpy as np
 import pytest
 
+from gaitshift.robots.model import standing_qpos
 from gaitshift.sim.leg_clearance import LegClearance, footprints_overlap
-from gaitshift.sim.plant import build_plant, standing_qpos
+from gaitshift.sim.plant import build_plant
 
 
 @pytest.fixture(scope="module")

@@ -25,7 +25,7 @@ def tour_run():
     sc = gaitshift.load_scenario(SHORT_TOUR)
     drv = driver_for(sc, robot_facts(sc), 0.002)
     assert drv is not None and drv.step_feedback
-    return drv, simulate(drv.trajectory, SimOptions(state="oracle"), replanner=drv)  # the controller on the truth
+    return drv, simulate(drv.trajectory, SimOptions(state="oracle"), driver=drv)  # the controller on the truth
 
 
 def test_the_short_tour_finishes_without_a_fall_and_with_flight(tour_run):

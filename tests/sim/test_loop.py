@@ -147,7 +147,7 @@ def test_measured_flight_is_ballistic(short_wrw):
 def test_online_variable_speed_follows_commands_within_0p1_m_s():
     sc = gaitshift.load_scenario("g1-online-variable-speed")
     rp = OnlineReplanner(sc)
-    result = simulate(rp.trajectory, replanner=rp)
+    result = simulate(rp.trajectory, driver=rp)
     met = result.metrics
     assert not result.fell, met.get("fall_reason")
     assert result.meta["replans"] >= 20  # one re-plan from the measured CoM per running step

@@ -45,7 +45,7 @@ def test_heavier_plant_weighs_more_on_the_floor_while_the_controller_keeps_its_m
         {"planner": "locomotion", "robot": "g1", "gait": "walk", "commands": [{"vx": 0.3}], "stop_at": 0.6}
     )
     driver = driver_for(sc, robot_facts(sc), 0.002)
-    res = simulate(driver.trajectory, SimOptions(mass_scale=1.2), replanner=driver, robot="g1")
+    res = simulate(driver.trajectory, SimOptions(mass_scale=1.2), driver=driver, robot="g1")
     assert not res.fell
     a = res.arrays
     weight = 1.2 * mujoco.mj_getTotalmass(load_robot("g1").model()) * 9.81

@@ -5,21 +5,24 @@ scenario's ``sim:`` block; each with a check that can fail."""
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import mujoco
 import numpy as np
 import pytest
 
+from gaitshift.control.controller import Controller
 from gaitshift.control.estimation.noise import noise_profile
 from gaitshift.errors import InputError
+from gaitshift.robots.model import standing_qpos
 from gaitshift.scenario.sim_settings import SimSettings
 from gaitshift.sim.bumps import Bump, parse_bump
 from gaitshift.sim.contacts import ContactSensor
 from gaitshift.sim.loop import SimOptions
 from gaitshift.sim.perturb import with_joint_vel_noise
-from gaitshift.sim.plant import build_plant, standing_qpos
+from gaitshift.sim.plant import build_plant
 from gaitshift.sim.pushes import Push, parse_push, push_forces
-from gaitshift.sim.sensing import Sensing
+from gaitshift.sim.sensors import SensorModel
 
 
 def test_a_push_of_any_direction_and_timing_delivers_its_impulse_vector():
@@ -56,9 +59,10 @@ def test_a_bump_is_a_box_on_the_plants_floor_that_the_feet_stand_on():
     mujoco.mj_forward(m, d)
     contacts = ContactSensor(plant).read(d)
     assert contacts.touching.all() and contacts.foreign is None
-    # the controller's copy of the model never collides: it is not told about the bump
-    sensing = Sensing(plant, SimOptions(), d.qpos.copy())
-    assert sensing.cmodel.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    # the controller's model has no bump, and its copy never collides: it is not told about the bump
+    ctrl = Controller.from_scenario("g1-walk")
+    assert mujoco.mj_name2id(ctrl.robot.model, mujoco.mjtObj.mjOBJ_GEOM, "bump0") < 0
+    assert ctrl.state.cmodel.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
 
 
 @pytest.mark.parametrize("bad", ["1", "1,0", "1,0.6", "1,0.05,0", "a,b", "inf,0.05"])
@@ -78,21 +82,22 @@ def test_joint_velocity_noise_adds_its_uniform_variance_to_the_sensors_only():
     base = noise_profile("typical")
     noisy = with_joint_vel_noise(base, u)
     assert noisy.joint_vel_std(dt) == pytest.approx(math.sqrt(base.joint_vel_std(dt) ** 2 + u**2 / 3))
-    s0 = Sensing(plant, SimOptions(), q0)
-    s1 = Sensing(plant, SimOptions(joint_vel_noise=u), q0)
+    s0 = SensorModel(plant.model, base, 0, plant.imu)
+    s1 = SensorModel(plant.model, noisy, 0, plant.imu)
     d = mujoco.MjData(plant.model)
     d.qpos[:] = q0
     mujoco.mj_forward(plant.model, d)
-    err = np.array([s1.sensors.read(d).joints.qd for _ in range(400)])  # the truth is 0
+    err = np.array([s1.read(d).joints.qd for _ in range(400)])  # the truth is 0
     assert np.std(err) == pytest.approx(noisy.joint_vel_std(dt), rel=0.05)
-    assert np.std([s0.sensors.read(d).joints.qd for _ in range(50)]) < 0.2 * np.std(err)
-    assert s1.estimator.tuning == s0.estimator.tuning
+    assert np.std([s0.read(d).joints.qd for _ in range(50)]) < 0.2 * np.std(err)
+    # the controller's settings carry no joint-velocity noise: its estimator is tuned to the profile alone
+    assert "joint_vel_noise" not in SimOptions(joint_vel_noise=u).controller_settings().__dict__
     with pytest.raises(InputError, match="joint_vel_noise"):
         SimOptions(joint_vel_noise=-1.0)
 
 
 def test_the_scenario_sim_block_takes_pushes_bumps_mass_and_noise():
-    from gaitshift.cli.sim import from_scenario
+    from gaitshift.sim.scenario_run import scenario_options
 
     sim = SimSettings.model_validate(
         {
@@ -102,7 +107,7 @@ def test_the_scenario_sim_block_takes_pushes_bumps_mass_and_noise():
             "bumps": [{"x": 1.5, "height": 0.03}],
         }
     )
-    kw = from_scenario(sim.given())
+    kw = scenario_options(SimpleNamespace(sim=sim))
     opts = SimOptions(**kw)
     assert opts.mass_scale == 1.1 and opts.joint_vel_noise == 0.5
     assert opts.pushes == (Push(t=2.0, impulse=15.0, duration=0.1, direction=(0.0, 15.0)),)

@@ -15,7 +15,8 @@ import pytest
 
 from gaitshift.errors import InputError
 from gaitshift.robots import load_robot
-from gaitshift.sim.plant import FLOOR, build_plant, standing_qpos
+from gaitshift.robots.model import standing_qpos
+from gaitshift.sim.plant import FLOOR, build_plant
 from mujoco_checks import forward_kinematics, tilt
 
 

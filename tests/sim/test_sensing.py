@@ -14,13 +14,15 @@ import numpy as np
 import pytest
 
 import gaitshift
+from gaitshift.control.state import LatencyPredictor
 from gaitshift.errors import InputError
+from gaitshift.robots.model import standing_qpos
 from gaitshift.sim.contacts import ContactSensor
-from gaitshift.sim.latency import CommandPipe
+from gaitshift.sim.latency import CommandDelay
 from gaitshift.sim.loop import SimOptions, simulate
-from gaitshift.sim.plant import build_plant, standing_qpos
-from gaitshift.sim.sensing import with_floor_friction
+from gaitshift.sim.plant import build_plant
 from gaitshift.sim.sensor_spec import SOLE_TOUCH_SENSORS
+from gaitshift.sim.world import with_floor_friction
 
 
 @pytest.fixture(scope="module")
@@ -139,12 +141,14 @@ def test_the_floor_friction_option_sets_the_contact_friction():
 
 def test_the_latency_pipe_delays_torques_by_l_ticks_and_predicts_constant_acceleration():
     m = build_plant().model
-    pipe = CommandPipe(m, 3)
-    out = [pipe.send(np.full(m.nu, float(k)), np.ones(m.nv)) for k in range(6)]
+    pipe, predictor = CommandDelay(3), LatencyPredictor(m, 3)
+    out = [pipe.send(np.full(m.nu, float(k))) for k in range(6)]
     assert [o[0] for o in out] == [0.0, 0.0, 0.0, 0.0, 1.0, 2.0]  # starts full of the first command
+    for _ in range(6):
+        predictor.sent(np.ones(m.nv))
     q0 = standing_qpos(build_plant())
     v0 = np.zeros(m.nv)
-    q, v = pipe.predict(q0, v0)  # three pending commands with qdd = 1
+    q, v = predictor.predict(q0, v0)  # three pending commands with qdd = 1
     np.testing.assert_allclose(v, 3 * m.opt.timestep * np.ones(m.nv))
     dt = m.opt.timestep
     np.testing.assert_allclose(q[7:] - q0[7:], dt * dt * (1 + 2 + 3) * np.ones(m.nq - 7))

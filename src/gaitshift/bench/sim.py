@@ -29,7 +29,8 @@ def _setup() -> tuple[Any, ...]:
     import mujoco
 
     from gaitshift.control.wbc import TickReference, WholeBodyController
-    from gaitshift.sim.plant import build_plant, standing_qpos
+    from gaitshift.robots.model import standing_qpos
+    from gaitshift.sim.plant import build_plant
 
     plant = build_plant(0.002)
     m = plant.model

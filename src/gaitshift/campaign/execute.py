@@ -89,17 +89,18 @@ def edited_scenario(sc: Any, case: dict[str, Any]) -> Any:
     return type(sc).model_validate(data)
 
 
-def _sim_options(sc: Any, case: dict[str, Any]) -> Any:
-    from gaitshift.sim.loop import SimOptions
+def _sim_options(case: dict[str, Any]) -> dict[str, Any]:
+    """The case's simulation options (None: the scenario's ``sim:`` key, else the default); a push of
+    the case replaces the scenario's pushes."""
     from gaitshift.sim.pushes import Push
 
-    pushes: tuple[Push, ...] = ()
+    keys = ("state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale")
+    out = {k: case[k] for k in keys} | {"control_period": case["control_period"]}
     if case["push_impulse"] > 0:
         a = math.radians(case["push_direction"])
-        pushes = (Push(case["push_time"], case["push_impulse"], case["push_duration"], (math.cos(a), math.sin(a))),)
-    keys = ("state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale")
-    given = sc.sim.given() | {k: case[k] for k in keys if case[k] is not None}
-    return SimOptions(control_period=case["control_period"], pushes=pushes, **given)
+        direction = (math.cos(a), math.sin(a))
+        out["pushes"] = (Push(case["push_time"], case["push_impulse"], case["push_duration"], direction),)
+    return out
 
 
 def _plan_facts(traj: Any) -> dict[str, Any]:
@@ -122,13 +123,10 @@ def _joint_speed_fraction(cfg: Any, qvel: np.ndarray) -> float | None:
 
 def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], Any]:
     """Closed-loop run of the case: its metrics and the result (arrays for a reference motion)."""
-    from gaitshift.api import plan, robot_facts
-    from gaitshift.control.drivers import driver_for
-    from gaitshift.sim.loop import simulate
+    from gaitshift.sim.scenario_run import simulate_scenario
 
-    replanner = driver_for(sc, robot_facts(sc), case["control_period"])
-    traj = replanner.trajectory if replanner else plan(sc)
-    res = simulate(traj, _sim_options(sc, case), replanner=replanner, robot=cfg)
+    run = simulate_scenario(sc, cfg, **_sim_options(case))
+    res = run.result
     m = res.metrics
     row = {
         "fell": bool(res.fell),
@@ -142,7 +140,7 @@ def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], 
         "steps_planned": int(m.get("steps_planned", 0)),
         "legs_touch_time": _finite(m.get("legs_touch_time")),
         "feet_overlap_time": _finite(m.get("feet_overlap_time")),
-        **_plan_facts(replanner.trajectory if replanner else traj),
+        **_plan_facts(run.trajectory),
         "sim_time": float(res.meta["sim_time_s"]),
     }
     return row, res

@@ -7,7 +7,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import typer
 
 from gaitshift.cli.app import app, out_file
@@ -63,36 +62,32 @@ def simulate_cmd(
     The robot is the scenario's ``robot``, else --robot, else g1; a --robot other than the scenario's
     own robot is an error (scale the scenario first: `gaitshift scale`). Before the run, the robot's
     joint-speed limits are checked against the plan's whole-body motion (IK)."""
-    from gaitshift.api import plan, robot_facts, with_robot
-    from gaitshift.control.drivers import driver_for
-    from gaitshift.robots import load_robot
-    from gaitshift.scenario import load_scenario
-    from gaitshift.sim.loop import SimOptions, simulate
+    from gaitshift.sim.scenario_run import prepare, run_prepared
 
     sensing: dict[str, Any] = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency}
     sensing |= {"friction": friction, "mass_scale": mass_scale, "joint_vel_noise": joint_vel_noise}
     flags = sensing_flags(out, video, None, rerun, seed=seed, video_size=video_size, video_fps=video_fps, **sensing)
     pushes_given, bumps = perturbation_flags(push, bump)
-    sc, robot_name = with_robot(load_scenario(scenario), robot)
-    cfg = load_robot(robot_name)
-    replanner = driver_for(sc, robot_facts(sc), control_period)
-    traj = replanner.trajectory if replanner else plan(sc)
-    if replanner is None:
+    if figures is not None:
+        figures_folder(figures)
+    prepared = prepare(scenario, robot, control_period)
+    sc, cfg, driver, traj = prepared
+    if driver is None:
         from gaitshift.wholebody.checks import check_joint_speeds
 
         check_joint_speeds(cfg, traj)
-    given = from_scenario(sc.sim.given()) | flags | ({"bumps": bumps} if bumps else {})
-    scenario_pushes = given.pop("pushes", ())
-    pushes = pushes_on(traj, pushes_given) if push else scenario_pushes  # --push replaces the scenario's
-    opts = SimOptions(
-        control_period=control_period, pushes=pushes, video=str(video) if video else None, viewer=viewer, **given
-    )
-    live = replanner.trajectory if replanner else traj
-    with web_view(web, web_port, lambda: replanner.trajectory if replanner else live, as_json, realtime=True) as views:
-        result = simulate(traj, opts, replanner=replanner, robot=cfg, hooks=views)
-    if replanner is not None:
-        traj = replanner.trajectory  # the plan as finally re-planned from the measured states
-    report(result, traj, cfg, replanner, ReportFiles(out, video, rerun, figures), as_json, sc.name)
+    given = flags | ({"bumps": bumps} if bumps else {}) | ({"pushes": pushes_given} if push else {})
+    given |= {"control_period": control_period, "video": str(video) if video else None, "viewer": viewer or None}
+    with web_view(web, web_port, lambda: driver.trajectory if driver else traj, as_json, realtime=True) as views:
+        run = run_prepared(prepared, hooks=views, **given)
+    report(run.result, run.trajectory, cfg, driver, ReportFiles(out, video, rerun, figures), as_json, sc.name)
+
+
+def figures_folder(path: Path) -> Path:
+    """``--figures``: a folder (made when missing), checked before the run; a file there is one line."""
+    if path.exists() and not path.is_dir():
+        raise InputError("--figures", str(path), "a folder (this is a file)")
+    return path
 
 
 @dataclass(frozen=True)
@@ -138,39 +133,6 @@ def perturbation_flags(push: list[str], bump: list[str]) -> tuple[list[Any], tup
     from gaitshift.sim.pushes import parse_push
 
     return [parse_push(p) for p in push], tuple(parse_bump(b) for b in bump)
-
-
-def from_scenario(given: dict[str, Any]) -> dict[str, Any]:
-    """The scenario's ``sim:`` keys (:meth:`SimSettings.given`) with its ``pushes`` and ``bumps`` as
-    :class:`~gaitshift.sim.pushes.Push` and :class:`~gaitshift.sim.bumps.Bump` tuples."""
-    from gaitshift.sim.bumps import Bump
-    from gaitshift.sim.pushes import Push
-
-    out = dict(given)
-    if "pushes" in out:
-        out["pushes"] = tuple(
-            Push(
-                t=p["t"],
-                impulse=float(np.linalg.norm(p["impulse"])),
-                duration=p["duration"],
-                direction=tuple(p["impulse"]),
-            )
-            for p in out["pushes"]
-        )
-    if "bumps" in out:
-        out["bumps"] = tuple(Bump(**b) for b in out["bumps"])
-    return out
-
-
-def pushes_on(traj: Any, given: list[Any]) -> tuple[Any, ...]:
-    """The pushes of the ``--push`` values on ``traj``: each legacy impulse J > 0 becomes the lateral
-    pushes at mid-stance of steps 4 and 8 (:func:`gaitshift.sim.pushes.mid_stance_pushes`)."""
-    from gaitshift.sim.pushes import Push, mid_stance_pushes
-
-    out: list[Any] = []
-    for p in given:
-        out.extend([p] if isinstance(p, Push) else mid_stance_pushes(traj, p) if p > 0 else [])
-    return tuple(out)
 
 
 def sensing_flags(
@@ -220,22 +182,21 @@ DEMO_SIM_SCENARIO = "g1-walk-run-walk"
 
 def demo_simulation(out: Path, video: bool) -> None:
     """``make demo`` step: simulate walk-run-walk on the G1; video, figures and summary into ``out``."""
-    from gaitshift import plan
     from gaitshift.common.atomic import atomic_path
     from gaitshift.plots.sim import plot_all
-    from gaitshift.scenario import builtin_names, load_scenario
-    from gaitshift.sim.loop import SimOptions, simulate
+    from gaitshift.scenario import builtin_names
     from gaitshift.sim.metrics import format_metrics
+    from gaitshift.sim.scenario_run import simulate_scenario
 
     name = DEMO_SIM_SCENARIO if DEMO_SIM_SCENARIO in builtin_names() else "g1-walk"
-    traj = plan(load_scenario(name))
     vid = out / "sim.mp4" if video else None
     try:
-        result = simulate(traj, SimOptions(video=str(vid) if vid else None))
+        run = simulate_scenario(name, video=str(vid) if vid else None)
     except InputError as exc:  # no OpenGL context: simulate without the video
         typer.echo(f"no video ({exc}); simulating without it", err=True)
         vid = None
-        result = simulate(traj)
+        run = simulate_scenario(name)
+    result, traj = run.result, run.trajectory
     result.save(out / "sim.npz")
     for p in plot_all(result, traj, out):
         typer.echo(f"wrote {p}")

@@ -1,8 +1,12 @@
-"""The robot's brain: from a plan and the measured state to joint torques, every control tick.
+"""The robot's brain: a :class:`~gaitshift.control.controller.Controller` that any world ticks,
+a :class:`~gaitshift.control.frames.SensorFrame` in, a :class:`~gaitshift.control.frames.MotorCommand` out.
 
-Modules: :mod:`wbc` (whole-body inverse-dynamics QP), :mod:`schedule` (foot stance/swing state
-machine and force caps), :mod:`feedback` (capture-point step feedback and plan shift),
-:mod:`reference` (the tick reference from plan + schedule + feedback), :mod:`plan_samples` (per-sample
-quantities derived from the plan), :mod:`online_driver` (re-planning the online VHIP generator from
-the measured CoM), :mod:`plant_view` (what the controller needs to know about the robot model).
+Modules: :mod:`controller` (the brain, built once and ticked), :mod:`frames` (what crosses the truth
+barrier), :mod:`settings` (its configuration), :mod:`state` (estimate or oracle, latency prediction,
+friction belief, its own ``MjData``), :mod:`initial_pose` (the pose the plan starts in), :mod:`wbc`
+(whole-body inverse-dynamics QP), :mod:`schedule` (foot stance/swing state machine and force caps),
+:mod:`feedback` (capture-point step feedback and plan shift), :mod:`reference` (the tick reference from
+plan + schedule + feedback), :mod:`plan_samples` (per-sample quantities derived from the plan),
+:mod:`drivers` (re-planning streaming plans from the measured CoM), :mod:`plant_view` (what the
+controller needs to know about the robot model), ``estimation/`` (the state estimator).
 """

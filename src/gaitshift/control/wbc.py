@@ -58,7 +58,7 @@ __all__ = ["Gains", "TickInfo", "TickReference", "WholeBodyController", "rotatio
 class _Views:
     """Views into one ``MjData`` of what the controller reads, taken once (an attribute of ``MjData``
     builds a new array object at every access). That ``MjData`` is the controller's own, set from the
-    estimated state (:mod:`gaitshift.sim.sensing`), never the plant's."""
+    estimated state (:mod:`gaitshift.control.state`), never the plant's."""
 
     def __init__(self, data: mujoco.MjData, torso: int, pelvis: int) -> None:
         self.data = data
@@ -243,7 +243,7 @@ class WholeBodyController:
         d = self._P[lay.feet] - vw.com
         lay.skew[:] = (d @ SKEW_BASIS).reshape(-1, 3, 3)
         lay.reg[:] = st.reg @ lay.B
-        # the views are of the controller's own MjData (the estimated state, sim/sensing.py), never the plant's
+        # the views are of the controller's own MjData (the estimated state, control/state.py), never the plant's
         t = self._t  # minus the targets of the first six rows: -[m cdd_des; -K_L L]
         t[:3] = (
             self._neg_mass * ref.com_acc

@@ -3,9 +3,9 @@
 A bump at ``x`` is a box on the floor plane spanning ``[x, x + length]`` along the world x axis,
 ``[-half_width, half_width]`` along y, and ``[0, height]`` in z, with the MJCF's default geom contact
 parameters (``SimOptions.friction`` sets its friction with the floor's:
-:func:`gaitshift.sim.sensing.with_floor_friction`). It is
+:func:`gaitshift.sim.world.with_floor_friction`). It is
 added to the plant's MuJoCo model before compilation. The controller is never told: it plans on flat
-ground, and its own copy of the model has contacts disabled (:class:`gaitshift.sim.sensing.Sensing`),
+ground, and its own copy of the model has contacts disabled (:class:`gaitshift.control.state.ControllerState`),
 so the bump acts only through the contact forces on the real feet (or a fall when a shin hits it).
 """
 

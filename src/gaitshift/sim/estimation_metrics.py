@@ -1,7 +1,7 @@
 """How well the state estimator tracked the truth over a run: the ``"estimation"`` object of the metrics.
 
 From the run's arrays (truth: ``qpos``, ``qvel``, ``contact`` (contact list), ``com_pos``, ``com_vel``;
-estimate: ``est_*`` of :class:`gaitshift.sim.sensing.EstimationLog`), over the ticks after the first
+estimate: ``est_*`` of :class:`gaitshift.sim.log.EstimationLog`), over the ticks after the first
 (tick 0 is the known start state):
 
 * ``base_vel_rmse``: ``sqrt(mean |v_hat - v|^2)`` of the base origin's 3D velocity, m/s;

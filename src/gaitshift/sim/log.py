@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import mujoco
 import numpy as np
 
@@ -102,3 +104,28 @@ class TickLog:
     def arrays(self, n: int) -> dict[str, np.ndarray]:
         """The first ``n`` rows of every array (the ticks run)."""
         return {key: v[:n] for key, v in self.data.items()}
+
+
+class EstimationLog:
+    """Per tick: the controller's state estimate (used by it or not,
+    :class:`~gaitshift.control.state.EstimateRecord`), prefixed ``est_`` in the run's arrays:
+    ``est_qpos`` (nq), ``est_qvel`` (nv), ``est_contact`` (the fused contact), ``est_stance`` (the
+    force-confirmed stance the controller's scheduler gets), ``est_slip`` (2, bool), ``est_com``,
+    ``est_com_vel`` (3), ``est_mu`` (friction assumed), ``est_tick_us`` (estimator cost, µs; 0 at
+    tick 0, the known start state)."""
+
+    KEYS = ("qpos", "qvel", "contact", "stance", "slip", "com", "com_vel", "mu", "tick_us")
+
+    def __init__(self) -> None:
+        self.rows: dict[str, list[Any]] = {k: [] for k in self.KEYS}
+
+    def record(self, estimate: Any) -> None:
+        """One row from an :class:`~gaitshift.control.state.EstimateRecord`."""
+        for key, rows in self.rows.items():
+            rows.append(np.array(getattr(estimate, key), copy=True))
+
+    def arrays(self, n: int) -> dict[str, np.ndarray]:
+        """The first ``n`` rows as arrays named ``est_<key>`` (none when no estimator ran)."""
+        if not self.rows["qpos"]:
+            return {}
+        return {f"est_{k}": np.array(v[:n]) for k, v in self.rows.items()}

@@ -1,24 +1,18 @@
-"""Closed loop: a planned :class:`~gaitshift.trajectory.contract.Trajectory` executed on a simulated robot.
+"""Closed loop: the controller (:class:`~gaitshift.control.controller.Controller`) hosted by the
+simulated world (:class:`~gaitshift.sim.world.World`).
 
-Every control tick (= physics step, 2 ms by default):
+Every control tick (= physics step, 2 ms by default)::
 
-1. read the truth for the metrics (``mj_forward`` + ``mj_subtreeVel``, foot contacts of :mod:`gaitshift.sim.contacts`);
-   stop at a fall (pelvis below 60 % of its initial height, both above the plan's terrain, or any non-sole geom
-   touching the ground); sense (:mod:`gaitshift.sim.sensing`): sensors, state estimator (or the truth with
-   ``state="oracle"``), latency prediction, the controller's OWN ``MjData``: steps 2-5 read only that view (the truth
-   barrier);
-2. online VHIP plans: re-plan at each planning instant from the measured CoM
-   (:mod:`gaitshift.control.online_driver`);
-3. update the foot state machine (contact schedule of the plan, with early/late touchdown from the
-   measured contacts, :mod:`gaitshift.control.schedule`);
-4. step-level feedback of TV-LIPM plans: capture-point foothold corrections and the plan shift
-   (:mod:`gaitshift.control.feedback`; off for online plans, whose footholds do that job);
-5. build the tick reference (:mod:`gaitshift.control.reference`), solve the whole-body QP
-   (:mod:`gaitshift.control.wbc`), apply the torques and the pushes (:mod:`gaitshift.sim.pushes`);
-6. log (:mod:`gaitshift.sim.log`), render (:mod:`gaitshift.sim.video`) and step the physics.
+    world.observe(k)         the truth for the metrics; stop at a fall (pelvis below 60 % of its initial
+                             height above the ground, or any non-sole geom touching it)
+    frame = world.sense(k)   SensorFrame: what the robot reports (the truth barrier: plain arrays)
+    cmd = ctrl.tick(frame)   the brain: estimator, driver, scheduler, step feedback, whole-body QP
+    world.apply(cmd, k)      the motors' law through the latency pipe, and the push
+    hooks, log, video        (they read the world and the controller's record, never write)
+    world.step()
 
-The run starts in the standing pose on the plan's first footholds (:mod:`gaitshift.sim.initial_pose`)
-and ends with the metrics of :mod:`gaitshift.sim.metrics`.
+The run starts in the pose the controller's plan starts in (``ctrl.initial_qpos()``) and ends when
+the plan ends or the robot falls, with the metrics of :mod:`gaitshift.sim.metrics`.
 """
 
 from __future__ import annotations
@@ -26,42 +20,53 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field, replace
-from functools import partial
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-import mujoco
 import numpy as np
 
-from gaitshift.control.cop_room import CopRoom
+from gaitshift.control.controller import Controller
 from gaitshift.control.drivers import PlanDriver
-from gaitshift.control.feedback import CaptureSettings, PlanShift, SwingContext
-from gaitshift.control.plan_samples import PlanSamples
-from gaitshift.control.reference import SwingSettings, tick_reference
-from gaitshift.control.schedule import FootScheduler, ScheduleSettings
-from gaitshift.control.step_limits import StepLimits
-from gaitshift.control.wbc import WholeBodyController
-from gaitshift.control.wbc_data import Gains, TickInfo, gains_for
+from gaitshift.control.feedback import CaptureSettings
+from gaitshift.control.reference import SwingSettings
+from gaitshift.control.schedule import ScheduleSettings
+from gaitshift.control.settings import ControllerSettings
+from gaitshift.control.wbc_data import Gains
+from gaitshift.errors import InputError
 from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig
+from gaitshift.robots.model import robot_model
+from gaitshift.scenario.sim_settings import FRICTION_RANGE
 from gaitshift.sim.bumps import Bump, check_bumps
-from gaitshift.sim.contacts import ContactSensor, fall_reason
 from gaitshift.sim.estimation_metrics import sensing_metrics
-from gaitshift.sim.initial_pose import initial_qpos
+from gaitshift.sim.latency import CommandDelay
 from gaitshift.sim.leg_clearance import LegClearance
-from gaitshift.sim.log import TickLog
+from gaitshift.sim.log import EstimationLog, TickLog
 from gaitshift.sim.metrics import summarize
-from gaitshift.sim.perturb import check_joint_vel_noise, check_mass_scale, scaled_masses
+from gaitshift.sim.perturb import check_joint_vel_noise, check_mass_scale
 from gaitshift.sim.plant import Plant, build_plant
-from gaitshift.sim.pushes import Push, push_forces
+from gaitshift.sim.pushes import Push
 from gaitshift.sim.result import SimResult
-from gaitshift.sim.sensing import ControllerView, Sensing, check_sensing_options, with_floor_friction
 from gaitshift.sim.video import VIDEO_SIZE, VideoRecorder, check_video, close_viewer, open_viewer, video_overlay
+from gaitshift.sim.world import World, with_floor_friction
 from gaitshift.trajectory.contract import Trajectory
 
 #: called after the control of every tick: (tick index, plan time s, the plant's MjData)
 TickHook = Callable[[int, float, Any], None]
+#: the SimOptions that configure the controller (the rest configure the world)
+CONTROLLER_KEYS = (
+    "gains",
+    "schedule",
+    "capture",
+    "swing",
+    "settle",
+    "state",
+    "noise",
+    "noise_scale",
+    "estimator",
+    "assumed_friction",
+)
 
 
 @dataclass(frozen=True)
@@ -106,7 +111,7 @@ class SimOptions:
     video_fps: int = 30
     video_size: tuple[int, int] = VIDEO_SIZE
     viewer: bool = False
-    # sensing and the truth barrier (gaitshift.sim.sensing)
+    # sensing (gaitshift.sim.world) and the controller state (gaitshift.control.state)
     state: str | None = None
     noise: str = "typical"
     noise_scale: float = 1.0
@@ -121,190 +126,133 @@ class SimOptions:
     bumps: tuple[Bump, ...] = ()
 
     def __post_init__(self) -> None:
-        check_sensing_options(self)
+        self.controller_settings()  # the controller's keys, checked
+        if self.friction is not None and (
+            isinstance(self.friction, bool)
+            or not isinstance(self.friction, int | float)
+            or not FRICTION_RANGE[0] <= self.friction <= FRICTION_RANGE[1]
+        ):
+            raise InputError(
+                "friction", self.friction, f"a friction coefficient in [{FRICTION_RANGE[0]}, {FRICTION_RANGE[1]}]"
+            )
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise InputError("seed", self.seed, "an integer >= 0")
+        CommandDelay.check(self.latency)
         check_video(self.video_size, self.video_fps)
         check_mass_scale(self.mass_scale)
         check_joint_vel_noise(self.joint_vel_noise)
         check_bumps(self.bumps)
 
+    def controller_settings(self) -> ControllerSettings:
+        """The controller's part of the options (the latency compensated when ``predict_latency``)."""
+        given = {k: getattr(self, k) for k in CONTROLLER_KEYS}
+        latency = self.latency if self.predict_latency and not isinstance(self.latency, bool) else 0
+        return ControllerSettings(**given, latency=latency if isinstance(latency, int) else 0)
+
 
 class _Run:
-    """The state of one closed-loop run: plant data, controller, scheduler, feedback, log."""
+    """The state of one closed-loop run: the controller, the world, the log."""
 
-    def __init__(
-        self,
-        traj: Trajectory,
-        opts: SimOptions,
-        plant: Plant,
-        replanner: PlanDriver | None,
-        hooks: Sequence[TickHook] = (),
-    ) -> None:
-        self.traj, self.opts, self.plant, self.replanner = traj, opts, plant, replanner
-        self.hooks = tuple(hooks)
+    def __init__(self, ctrl: Controller, world: World, opts: SimOptions, hooks: Sequence[TickHook] = ()) -> None:
+        self.ctrl, self.world, self.opts, self.hooks = ctrl, world, opts, tuple(hooks)
+        self.dt = world.dt
         self.video: VideoRecorder | None = None
-        self.d = mujoco.MjData(plant.model)
-        self.dt = plant.dt
-        self.plan = PlanSamples.from_trajectory(traj, plant.robot.sole_size[0])
-        q0 = initial_qpos(plant, traj.com_pos[0], traj.foot_pos[0], self.plan.yaw[0])
-        self.d.qpos[:] = q0
-        mujoco.mj_forward(plant.model, self.d)
-        self.ground = Terrain.from_list(traj.meta.get("terrain"))  # pelvis heights are above the ground
-        self.pelvis0 = float(q0[2] - self.ground.height(q0[0]))
-        gains = opts.gains if opts.gains is not None else gains_for(plant.robot)
-        self.ctrl = WholeBodyController(plant, q0, gains)
-        self.sched = FootScheduler(traj, self.plan, opts.schedule, plant.mass * 9.81)
-        height = float(traj.meta.get("height", traj.com_pos[0, 2]))
-        limits = StepLimits.from_plant(plant, height, opts.capture.reach_fraction, opts.capture.tandem_clearance)
-        half = np.asarray(traj.meta.get("foot_size", (0.0, 0.0)), float) / 2
-        sole = (float(half[0]), float(half[1]))
-        room = CopRoom.from_plant(plant, self.d, sole) if opts.capture.cop_room else sole
-        omega = math.sqrt(traj.gravity / height)
-        self.shift = PlanShift(opts.capture, omega, limits, room, plant.mass * traj.gravity)
-        self.last_info = TickInfo()  # the controller's last solve: the stance soles' CoP (commanded_cop)
-        self.sensor = ContactSensor(plant)
-        self.clearance = LegClearance.of(plant)
-        end = replanner.duration_bound if replanner is not None else float(traj.t[-1])
-        self.n_ticks = round((end + opts.settle) / self.dt) + 1
-        self.push = push_forces(opts.pushes, opts.settle, self.dt, self.n_ticks)
-        self.log = TickLog(min(self.n_ticks, round(60.0 / self.dt)), plant.model)
-        self.sensing = Sensing(plant, opts, q0)
+        self.n_ticks = round(ctrl.duration_bound / self.dt) + 1
+        self.clearance = LegClearance.of(world.plant)
+        self.log = TickLog(min(self.n_ticks, round(60.0 / self.dt)), world.plant.model)
+        self.est_log = EstimationLog()
         self.sense_hooks: tuple[TickHook, ...] = ()
-        self.physics = scaled_masses(plant.model, opts.mass_scale)  # the truth; the controller: nominal
-
-    def plan_index(self, tp: float, view: ControllerView) -> int:
-        """Plan sample at plan time ``tp``, after re-planning from the measured CoM when it is due."""
-        if self.replanner is not None:
-            c = view.data
-            new = self.replanner.maybe_replan(tp, c.subtree_com[0].copy(), c.subtree_linvel[0])
-            if new is not None:
-                self.traj, self.plan = new, PlanSamples.from_trajectory(new, self.plant.robot.sole_size[0])
-                self.sched.retarget(new, self.plan)
-        return min(round(tp / self.traj.dt), len(self.traj) - 1)
-
-    def control(self, k: int, tp: float, i: int, view: ControllerView) -> tuple[Any, ...]:
-        """Schedule, feedback, reference, QP on the controller's view; send the command and the push
-        of tick ``k``; return what the log needs."""
-        sched, shift, traj, d, c = self.sched, self.shift, self.traj, self.d, view.data
-        com = c.subtree_com[0].copy()
-        was_swing = ~sched.stance
-        if tp > 0 or self.opts.settle == 0:
-            sched.update(tp, i, view.touching)
-        shift.land(was_swing & sched.stance)
-        measured, planned = self.footholds(view)
-        if self.opts.capture.anchor and not self.sensing.oracle:  # the truth has no drift to absorb
-            shift.anchor_on(sched.stance & ~view.slip, measured, planned)
-        shift.blend(self.dt)
-        progress = np.array([sched.swing_progress(tp, s) for s in (0, 1)])
-        left = np.maximum(sched.swing_end - tp, 0.0), float(self.plan.heading[i])
-        stance_left = np.where(sched.stance, np.maximum(sched.lift_at - tp, 0.0), 0.0)
-        load = partial(self.load_factor, tp, i) if shift.cop is not None else None  # only the CoP room uses it
-        ctx = SwingContext(planned, measured, *left, stance_left, load, self.last_info.cop_offset)
-        shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i], ctx)
-        pos_std = 0.0 if self.plan.terrain.flat else self.sensing.position_std()
-        ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.opts.swing, pos_std)
-        self.ctrl.gains = self.sensing.friction(self.ctrl.gains, view)
-        tau, info = self.ctrl.compute(c, ref)
-        self.last_info = info
-        tau = self.sensing.actuate(d, tau, info.qdd)  # the only write to the plant, with the push
-        push = self.push[k] if k < len(self.push) else np.zeros(3)
-        d.xfrc_applied[self.plant.pelvis_body, :3] = push
-        return tau, ref, info, shift.shift.copy(), traj.contact[i], push
-
-    def load_factor(self, tp: float, i: int, tau: float) -> float:
-        """The plan's mean vertical force over ``[tp, tp + tau]`` in units of the weight (plan sample ``i``
-        at time ``tp``): ``1 + (zd(tp + tau) - zd(tp)) / (g tau)``, the CoM's impulse balance
-        (:mod:`gaitshift.control.cop_room`)."""
-        traj = self.traj
-        j = min(int(np.searchsorted(traj.t, tp + tau)), len(traj.t) - 1)
-        return 1.0 + float(traj.com_vel[j, 2] - traj.com_vel[i, 2]) / (traj.gravity * tau)
-
-    def footholds(self, view: ControllerView) -> tuple[np.ndarray, np.ndarray]:
-        """Sole positions (2, 3) m as the controller sees them, and the plan's footholds (2, 3) m of the
-        stances the scheduler is at (the plan's sole positions at each foot's last planned touchdown)."""
-        measured = np.array([self.plant.sole_frame(view.data, s)[0] for s in (0, 1)])
-        last = len(self.traj) - 1
-        j = [min(round(self.sched.swing_end[s] / self.traj.dt), last) for s in (0, 1)]
-        planned = np.array([self.traj.foot_pos[j[s], s] for s in (0, 1)])
-        return measured, planned
 
     def execute(self) -> SimResult:
         """Run the ticks until the plan ends or the robot falls; return the result with its metrics."""
-        m, d, opts = self.physics, self.d, self.opts
+        ctrl, world, opts, d = self.ctrl, self.world, self.opts, self.world.d
         video = None
         if opts.video:
-            overlay = video_overlay(self.traj, self.plant.robot.sole_size)
-            track, height = self.plant.pelvis_body, self.plant.robot.com_height
-            video = self.video = VideoRecorder(m, opts.video, opts.video_fps, opts.video_size, track, height, overlay)
-        viewer = open_viewer(m, d) if opts.viewer else None
+            plant = world.plant
+            overlay = video_overlay(ctrl.trajectory, plant.robot.sole_size)
+            track, height = plant.pelvis_body, plant.robot.com_height
+            video = self.video = VideoRecorder(
+                world.physics, opts.video, opts.video_fps, opts.video_size, track, height, overlay
+            )
+        viewer = open_viewer(world.physics, d) if opts.viewer else None
         fell, fall_time, reason = False, math.nan, ""
         n_done = self.n_ticks
         wall0 = time.perf_counter()
         for k in range(self.n_ticks):
             t = k * self.dt
-            tp = max(0.0, t - opts.settle)
-            if tp > float(self.traj.t[-1]) + 0.5 * self.dt:
+            tp = ctrl.plan_time(t)
+            if ctrl.finished(t):
                 n_done = k
                 break
-            if k > 0:
-                self.sensing.latch(d)
-            mujoco.mj_forward(m, d)
-            mujoco.mj_subtreeVel(m, d)
-            contacts = self.sensor.read(d)  # truth: the metrics and the fall test
-            why = fall_reason(contacts, float(d.qpos[2] - self.ground.height(d.qpos[0])), self.pelvis0)
+            why = world.observe(k)
             if why is not None:
                 fell, fall_time, reason, n_done = True, tp, why, k
                 break
-            planned = self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)]  # the plan, not the plant
-            view = self.sensing.observe(k, d, contacts, planned)
+            frame = world.sense(k)
             for hook in self.sense_hooks:
                 hook(k, tp, d)
-            i = self.plan_index(tp, view)
-            tau, ref, info, shift, contact_ref, push = self.control(k, tp, i, view)
+            cmd = ctrl.tick(frame)
+            push = world.apply(cmd, k)
             for hook in self.hooks:
                 hook(k, tp, d)
-            frames = [self.plant.sole_frame(d, s) for s in (0, 1)]
-            feet = np.array([centre for centre, _ in frames])
-            clear = self.clearance.read(d, frames)
-            self.log.record(k, tp, i, d, tau, contacts, ref, info, shift, contact_ref, feet, push, clear)
+            self._record(k, tp, push)
             if video is not None:
                 video.capture(t, d, d.subtree_com[0].copy())
             if viewer is not None:
                 viewer.sync()
-            mujoco.mj_step(m, d)
+            world.step()
         wall = time.perf_counter() - wall0 - (video.wall if video is not None else 0.0)  # control + physics only
         if video is not None:
             video.close()
         if viewer is not None:
             close_viewer(viewer)
-        arrays = {**self.log.arrays(n_done), **self.sensing.log.arrays(n_done)}
+        return self._result(n_done, wall, fell, fall_time, reason)
+
+    def _record(self, k: int, tp: float, push: np.ndarray) -> None:
+        """Log tick ``k``: the world's truth and the controller's record."""
+        world, rec, d = self.world, self.ctrl.record, self.world.d
+        assert rec is not None and world.contacts is not None
+        frames = [world.plant.sole_frame(d, s) for s in (0, 1)]
+        feet = np.array([centre for centre, _ in frames])
+        clear = self.clearance.read(d, frames)
+        self.log.record(
+            k, tp, rec.plan_index, d, world.applied, world.contacts, rec.reference, rec.info, rec.shift,
+            rec.contact_ref, feet, push, clear,
+        )  # fmt: skip
+        if rec.estimate is not None:
+            self.est_log.record(rec.estimate)
+
+    def _result(self, n_done: int, wall: float, fell: bool, fall_time: float, reason: str) -> SimResult:
+        arrays = {**self.log.arrays(n_done), **self.est_log.arrays(n_done)}
         result = SimResult(arrays, fell, fall_time, reason, self._meta(n_done, wall), {})
-        result.metrics = summarize(result, self.traj, self.plant.torque_limit)
-        result.metrics.update(sensing_metrics(result.arrays, self.sensing.source))
+        result.metrics = summarize(result, self.ctrl.trajectory, self.world.plant.torque_limit)
+        result.metrics.update(sensing_metrics(result.arrays, self.ctrl.source))
         return result
 
     def _meta(self, n_done: int, wall: float) -> dict[str, Any]:
         sim_time = n_done * self.dt
+        plant, ctrl, opts = self.world.plant, self.ctrl, self.opts
         return {
-            "robot": self.plant.robot.source or self.plant.robot.name,
+            "robot": plant.robot.source or plant.robot.name,
             "control_period": self.dt,
             "integrator": "implicitfast",
-            "plan_meta": self.traj.meta,
+            "plan_meta": ctrl.trajectory.meta,
             "wall_time_s": wall,
             "sim_time_s": sim_time,
             "real_time_factor": sim_time / wall if wall > 0 else math.nan,
-            "torque_limit": self.plant.torque_limit.tolist(),
-            "pelvis_height0": self.pelvis0,
-            "pushes": [asdict(p) for p in self.opts.pushes],
-            "bumps": [asdict(b) for b in self.opts.bumps],
-            "mass_scale": self.opts.mass_scale,
-            "joint_vel_noise": self.opts.joint_vel_noise,
-            "settle": self.opts.settle,
-            "replans": self.replanner.replans if self.replanner is not None else 0,
+            "torque_limit": plant.torque_limit.tolist(),
+            "pelvis_height0": self.world.pelvis0,
+            "pushes": [asdict(p) for p in opts.pushes],
+            "bumps": [asdict(b) for b in opts.bumps],
+            "mass_scale": opts.mass_scale,
+            "joint_vel_noise": opts.joint_vel_noise,
+            "settle": opts.settle,
+            "replans": ctrl.driver.replans if ctrl.driver is not None else 0,
             "sensing": {
-                key: getattr(self.opts, key)
+                key: getattr(opts, key)
                 for key in ("state", "noise", "noise_scale", "latency", "predict_latency", "friction", "seed")
             }
-            | {"estimator": self.opts.estimator, "assumed_friction_final": self.sensing.mu},
+            | {"estimator": opts.estimator, "assumed_friction_final": ctrl.state.mu},
         }
 
 
@@ -312,31 +260,35 @@ def simulate(
     traj: Trajectory,
     opts: SimOptions | None = None,
     plant: Plant | None = None,
-    replanner: PlanDriver | None = None,
+    driver: PlanDriver | None = None,
     hooks: Sequence[TickHook] = (),
     robot: str | Path | RobotConfig = "g1",
     sense_hooks: Sequence[TickHook] = (),
 ) -> SimResult:
-    """Run ``traj`` closed-loop on ``robot`` (built-in name, YAML or config; ignored when ``plant`` is
-    given; the plant gets the plan's terrain, ``traj.meta["terrain"]``) and return the logged result
-    (see module docstring).
+    """Run the plan ``traj`` closed-loop on ``robot`` (built-in name, YAML or config; ignored when
+    ``plant`` is given; the plant gets the plan's terrain, ``traj.meta["terrain"]``) and return the
+    logged result (see module docstring). To simulate a scenario, use
+    :func:`gaitshift.sim.scenario_run.simulate_scenario`, which picks the driver and applies its
+    ``sim:`` block.
 
-    With a ``replanner`` (a :class:`~gaitshift.control.drivers.PlanDriver`: online VHIP and locomotion
-    plans), the plan is regenerated from the measured CoM at every
-    planning instant and the capture-point shift is not used (the generator's footholds do that job).
+    With a ``driver`` (a :class:`~gaitshift.control.drivers.PlanDriver`: online VHIP and locomotion
+    plans), the plan is the driver's, regenerated from the measured CoM at every planning instant.
     ``hooks`` are called after the control of every tick with (tick, plan time s, the plant's MjData):
     a live session (:mod:`gaitshift.sim.teleop`) reads its keys and paces the run there.
-    ``sense_hooks`` are called right after sensing, before the controller side runs (tests of the
-    truth barrier, :mod:`gaitshift.sim.sensing`).
+    ``sense_hooks`` are called right after sensing, before the controller ticks (tests of the truth
+    barrier).
     """
     opts = opts or SimOptions()
-    if replanner is not None:
-        traj = replanner.trajectory
-        if not replanner.step_feedback:
-            opts = replace(opts, capture=replace(opts.capture, gain=0.0, anchor=False))
+    if driver is not None:
+        traj = driver.trajectory
     terrain = Terrain.from_list(traj.meta.get("terrain"))  # the plan's ground, built into the scene
     plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain, opts.bumps), opts.friction)
-    run = _Run(traj, opts, plant, replanner, hooks)
+    ctrl = Controller(traj, robot_model(plant.robot, plant.dt), opts.controller_settings(), driver)
+    n_ticks = round(ctrl.duration_bound / plant.dt) + 1
+    world = World(plant, ctrl.initial_qpos(), opts, ctrl.source == "oracle", n_ticks)
+    world.on_ground(terrain)
+    ctrl.calibrate(world.still_gyro())
+    run = _Run(ctrl, world, opts, hooks)
     run.sense_hooks = tuple(sense_hooks)
     try:
         return run.execute()

@@ -40,3 +40,26 @@ def add_sole_touch_sensors(spec: Any, sole_bodies: tuple[str, str]) -> None:
         spec.add_sensor(
             name=name, type=mujoco.mjtSensor.mjSENS_TOUCH, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site.name
         )
+
+
+#: the site the world adds at the floating base for a model that ships no IMU
+ADDED_IMU_SITE = "gaitshift_imu"
+
+
+def add_imu_sensors(spec: Any) -> str:
+    """The IMU site of ``spec`` (an ``MjSpec``): the model's own (:data:`gaitshift.robots.model.IMU_SITE`
+    with a gyro and an accelerometer), else a site :data:`ADDED_IMU_SITE` at the origin of the floating
+    base (the body of the free joint) with a gyro and an accelerometer added. Returns the site name."""
+    from gaitshift.robots.model import IMU_SITE
+
+    kinds = {mujoco.mjtSensor.mjSENS_GYRO, mujoco.mjtSensor.mjSENS_ACCELEROMETER}
+    have = {s.type for s in spec.sensors if s.objtype == mujoco.mjtObj.mjOBJ_SITE and s.objname == IMU_SITE}
+    if kinds <= have:
+        return IMU_SITE
+    base = next(b for b in spec.bodies if any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in b.joints))
+    base.add_site(name=ADDED_IMU_SITE, pos=(0.0, 0.0, 0.0), group=5)
+    for kind, suffix in ((mujoco.mjtSensor.mjSENS_GYRO, "gyro"), (mujoco.mjtSensor.mjSENS_ACCELEROMETER, "accel")):
+        spec.add_sensor(
+            name=f"{ADDED_IMU_SITE}_{suffix}", type=kind, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=ADDED_IMU_SITE
+        )
+    return ADDED_IMU_SITE

@@ -88,6 +88,18 @@ class SensorModel:
         """Keep the accelerometer value ``mj_step`` computed (call after the step, before ``mj_forward``)."""
         self._accel = d.sensordata[self.accel_adr : self.accel_adr + 3].copy()
 
+    def exact(self, d: Any) -> Readings:
+        """The readings of ``d`` (after ``mj_forward``) without noise and without a draw: the first frame
+        of a run, the known start state at rest (the controller starts from that state, so the noise
+        stream starts with the second tick)."""
+        gyro = d.sensordata[self.gyro_adr : self.gyro_adr + 3].copy()
+        accel = d.sensordata[self.accel_adr : self.accel_adr + 3].copy()
+        return Readings(
+            imu=ImuReading(gyro=gyro, accel=accel),
+            joints=JointReading(q=d.qpos[7:].copy(), qd=d.qvel[6:].copy()),
+            forces=FootForces(normal=d.sensordata[self.touch_adr].copy()),
+        )
+
     def read(self, d: Any) -> Readings:
         """The readings of the current tick (``d`` after ``mj_forward``)."""
         gyro = d.sensordata[self.gyro_adr : self.gyro_adr + 3]

@@ -23,8 +23,9 @@ from typing import Any
 import numpy as np
 
 from gaitshift.control.locomotion_driver import LocomotionDriver
-from gaitshift.sim.loop import SimOptions, TickHook, simulate
+from gaitshift.sim.loop import TickHook
 from gaitshift.sim.result import SimResult
+from gaitshift.sim.scenario_run import simulate_scenario
 
 __all__ = ["SIM_KEYS", "Session", "run_session"]
 
@@ -141,10 +142,6 @@ def run_session(
     """Run the closed loop of a live session on ``robot`` (name, YAML or config) until the robot
     stands at rest after the stop; ``views`` are tick hooks called after the session's (a browser
     view, :mod:`gaitshift.sim.web`)."""
-    return simulate(
-        driver.trajectory,
-        SimOptions(control_period=driver.gen.dt, viewer=viewer),
-        replanner=driver,
-        hooks=[session, *views],
-        robot=robot,
-    )
+    hooks = [session, *views]
+    run = simulate_scenario(driver.sc, robot, driver=driver, hooks=hooks, control_period=driver.gen.dt, viewer=viewer)
+    return run.result

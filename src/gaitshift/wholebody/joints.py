@@ -158,7 +158,7 @@ def load_plan(source: Trajectory | str | Path) -> Trajectory:
     path = Path(str(source))
     if path.suffix.lower() in (".npz", ".csv", ".json"):
         return Trajectory.load(path)
-    from gaitshift import plan
+    from gaitshift.api import plan
     from gaitshift.scenario import load_scenario
 
     return plan(load_scenario(str(source)))

@@ -8,14 +8,14 @@ import numpy as np
 from gaitshift.common.rotations import rot_z
 from gaitshift.control.qp_terms import rotation_error
 from gaitshift.errors import InputError
-from gaitshift.sim.plant import Plant, standing_qpos
+from gaitshift.robots.model import RobotModel, standing_qpos
 
 #: leg flexions tried for the first guess: factors on the standing pose's leg joint angles
 FLEXIONS = np.linspace(0.2, 1.8, 17)
 
 
-def _leg_flexion_guess(plant: Plant, d: mujoco.MjData, com: np.ndarray) -> np.ndarray:
-    """The standing pose whose leg flexion (:func:`~gaitshift.sim.plant.standing_qpos`, factors
+def _leg_flexion_guess(plant: RobotModel, d: mujoco.MjData, com: np.ndarray) -> np.ndarray:
+    """The standing pose whose leg flexion (:func:`~gaitshift.robots.model.standing_qpos`, factors
     :data:`FLEXIONS`) puts the CoM nearest to the height ``com[2]``, moved horizontally under ``com``: (nq,)."""
     m = plant.model
     best = None
@@ -34,7 +34,9 @@ def _leg_flexion_guess(plant: Plant, d: mujoco.MjData, com: np.ndarray) -> np.nd
     return q
 
 
-def initial_qpos(plant: Plant, com: np.ndarray, feet: np.ndarray, yaws: np.ndarray, iters: int = 200) -> np.ndarray:
+def initial_qpos(
+    plant: RobotModel, com: np.ndarray, feet: np.ndarray, yaws: np.ndarray, iters: int = 200
+) -> np.ndarray:
     """Standing configuration (nq,) with sole centres at ``feet`` (2, 3) m, flat with yaw ``yaws`` (2,)
     rad, the CoM at ``com`` (3,) m and the pelvis upright with the mean yaw: damped Gauss-Newton on
     these 15 equations (+ 3 for the pelvis), regularised toward the initial guess's joint angles. On a

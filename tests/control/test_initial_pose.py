@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import gaitshift
+from gaitshift.control.initial_pose import initial_qpos
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.errors import InputError
-from gaitshift.sim.initial_pose import initial_qpos
 from gaitshift.sim.plant import build_plant
 from mujoco_checks import forward_kinematics, tilt, yaw
 

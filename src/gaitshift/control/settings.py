@@ -1,0 +1,83 @@
+"""The controller's settings: everything the robot's computer is configured with, in one frozen object."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+from gaitshift.control.estimation.filters import FILTERS
+from gaitshift.control.feedback import CaptureSettings
+from gaitshift.control.reference import SwingSettings
+from gaitshift.control.schedule import ScheduleSettings
+from gaitshift.control.wbc_data import Gains
+from gaitshift.errors import InputError, number_in
+from gaitshift.scenario.sim_settings import (
+    FRICTION_RANGE,
+    LATENCY_RANGE,
+    NOISE_PROFILES,
+    NOISE_SCALE_RANGE,
+    STATE_SOURCES,
+)
+
+__all__ = ["ControllerSettings"]
+
+
+@dataclass(frozen=True)
+class ControllerSettings:
+    """How the controller is configured.
+
+    Attributes:
+        gains: whole-body QP weights and gains; None: the defaults with the robot YAML's ``control``
+            values (:func:`gaitshift.control.wbc_data.gains_for`).
+        schedule: foot state machine timing; capture: step feedback; swing: swing-path additions.
+        settle: s of standing before the plan starts.
+        state: what the controller acts on, "estimated" (its estimator) or "oracle" (the frame's
+            :class:`~gaitshift.control.frames.OracleState`); None: "estimated" when the robot's model
+            carries the IMU, else "oracle".
+        noise, noise_scale: the sensor noise profile the estimator is tuned to, and its factor.
+        estimator: base filter of the state estimator (:data:`~gaitshift.control.estimation.filters.FILTERS`).
+        assumed_friction: the friction assumed at start (None: the conservative default).
+        latency: ticks between a frame and its command acting on the robot, compensated by prediction
+            (:mod:`gaitshift.control.state`, eq. (1)); 0: none.
+    """
+
+    gains: Gains | None = None
+    schedule: ScheduleSettings = field(default_factory=ScheduleSettings)
+    capture: CaptureSettings = field(default_factory=CaptureSettings)
+    swing: SwingSettings = field(default_factory=SwingSettings)
+    settle: float = 0.0
+    state: str | None = None
+    noise: str = "typical"
+    noise_scale: float = 1.0
+    estimator: str = "inekf"
+    assumed_friction: float | None = None
+    latency: int = 0
+
+    def __post_init__(self) -> None:
+        if self.state is not None and self.state not in STATE_SOURCES:
+            raise InputError("state", self.state, "one of: " + ", ".join(STATE_SOURCES))
+        if self.noise not in NOISE_PROFILES:
+            raise InputError("noise", self.noise, "one of: " + ", ".join(NOISE_PROFILES))
+        number_in("noise_scale", self.noise_scale, NOISE_SCALE_RANGE)
+        number_in("settle", self.settle, (0.0, 60.0), " s")
+        mu = self.assumed_friction
+        if mu is not None and (
+            isinstance(mu, bool) or not isinstance(mu, int | float) or not FRICTION_RANGE[0] <= mu <= FRICTION_RANGE[1]
+        ):
+            raise InputError(
+                "assumed_friction", mu, f"a friction coefficient in [{FRICTION_RANGE[0]}, {FRICTION_RANGE[1]}]"
+            )
+        if self.estimator not in FILTERS:
+            raise InputError("estimator", self.estimator, "one of: " + ", ".join(FILTERS))
+        lat = self.latency
+        if isinstance(lat, bool) or not isinstance(lat, int) or not LATENCY_RANGE[0] <= lat <= LATENCY_RANGE[1]:
+            raise InputError("latency", lat, f"an integer number of ticks in [{LATENCY_RANGE[0]}, {LATENCY_RANGE[1]}]")
+
+    @classmethod
+    def of(cls, **given: Any) -> ControllerSettings:
+        """Settings from keyword values; an unknown key is an :class:`InputError` naming it."""
+        names = [f.name for f in fields(cls)]
+        for key in given:
+            if key not in names:
+                raise InputError("settings", key, "one of: " + ", ".join(names))
+        return cls(**given)

@@ -1,0 +1,280 @@
+"""The controller's state: what it knows at one tick, from a :class:`~gaitshift.control.frames.SensorFrame` only.
+
+Per tick::
+
+    x_hat    = estimator.step(frame, planned)        StateEstimator (inekf by default); planned: the plan's
+                                                     contact flags at this tick (the fused contact)
+    x_ctrl   = x_hat (estimated) | frame.oracle      one state for controller, driver and step feedback
+    x_ctrl   = predict(x_ctrl, pending commands)     latency compensation, eq. (1) below
+    data.qpos, qvel = x_ctrl; mj_forward            the controller's OWN MjData (contacts off)
+
+The controller, the driver and the step feedback read only :class:`StateView`: the controller's
+``MjData`` (CoM = ``subtree_com[0]``, its velocity = ``subtree_linvel[0]``, frames and Jacobians all
+from the one state), the stance flags (force-based with hysteresis for the estimate, the frame's
+oracle contact for the oracle) and the slip flags. The estimator also runs when the controller acts on
+the oracle (its output unused), so every run reports how well it tracks. The first tick is the known
+start state at rest, both feet down (the estimator was reset to it).
+
+Latency: when the controller knows that its command acts ``L`` ticks after the frame it was computed
+from, it acts on the state predicted for that tick from the ``L`` commands already sent and the joint
+accelerations ``qdd_j`` its QP planned for them (semi-implicit Euler, as MuJoCo integrates)::
+
+    v_{j+1} = v_j + dt qdd_j,   q_{j+1} = q_j (+) dt v_{j+1}     for the L pending commands      (1)
+
+Friction: the controller starts from ``assumed_friction`` and, on the estimated state, multiplies it by
+:data:`FRICTION_DROP` at every detected slip onset of a stance sole, down to :data:`FRICTION_MIN`; it
+never raises it again within a run. On the oracle it is kept fixed: on the G1 tour (floor friction
+1.0) brief sole slides at running impacts lowered it to 0.23 and worsened the tracking.
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from collections import deque
+from dataclasses import dataclass, replace
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from gaitshift.control.estimation import GyroCalibration, StateEstimator
+from gaitshift.control.estimation.contact import noise_thresholds
+from gaitshift.control.estimation.noise import NoiseProfile
+from gaitshift.control.estimation.tuning import FilterTuning
+from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
+from gaitshift.control.frames import SensorFrame
+from gaitshift.errors import InputError
+from gaitshift.robots.model import RobotModel
+
+#: friction coefficient the controller assumes unless told: conservative against rubber soles on a dry
+#: floor (0.6-1.0) and the simulated contact (1.0); the QP's pyramid |fx|, |fy| <= mu fz lets the
+#: diagonal reach sqrt(2) mu. 0.35 costs the oracle G1 runs 0.2 cm of CoM RMS (docs/estimation.md)
+DEFAULT_ASSUMED_FRICTION = 0.45
+FRICTION_DROP = 0.8
+FRICTION_MIN = 0.1
+#: slip of a stance sole on the oracle: low-passed horizontal speed (tau s) above this, m/s
+SLIP_SPEED, SLIP_TAU = 0.2, 0.03
+#: how well the start tilt is known, rad: the run starts at rest, standing on a level floor in a known
+#: pose (the estimator's reset state); the prior lets the filter separate the accelerometer's turn-on
+#: bias from the tilt while the robot stands (a level floor is known to about 1 mrad)
+START_TILT_STD = 1e-3
+#: samples of the moving average of the sole forces; the thresholds follow from the force noise
+#: (gaitshift.control.estimation.contact.noise_thresholds: 4 and 1.5 std of the averaged noise)
+CONTACT_WINDOW = 2
+
+
+@dataclass(frozen=True)
+class StateView:
+    """What the controller acts on at one tick.
+
+    Attributes:
+        data: the controller's own ``MjData`` at that state (``mj_forward`` and ``mj_subtreeVel`` done).
+        touching: (2,) bool stance flags; slip: (2,) bool stance soles sliding.
+    """
+
+    data: Any
+    touching: np.ndarray
+    slip: np.ndarray
+
+
+@dataclass(frozen=True)
+class EstimateRecord:
+    """The estimator's output at one tick (used by the controller or not): ``qpos`` (nq), ``qvel``
+    (nv), ``contact`` (the fused contact), ``stance`` (the force-confirmed stance the scheduler gets),
+    ``slip`` (2, bool), ``com``, ``com_vel`` (3), ``mu`` (friction assumed), ``tick_us`` (estimator
+    cost, µs; 0 at the first tick, the known start state)."""
+
+    qpos: np.ndarray
+    qvel: np.ndarray
+    contact: np.ndarray
+    stance: np.ndarray
+    slip: np.ndarray
+    com: np.ndarray
+    com_vel: np.ndarray
+    mu: float
+    tick_us: float
+
+
+class OracleSlip:
+    """Slip on the oracle: a sole touching the floor whose low-passed horizontal speed exceeds
+    :data:`SLIP_SPEED` (the estimator's rule, on the true sole velocity)."""
+
+    def __init__(self, dt: float) -> None:
+        self.alpha = 1.0 - np.exp(-dt / SLIP_TAU)
+        self.lp = np.zeros((2, 2))
+
+    def update(self, sole_velocity: np.ndarray, touching: np.ndarray) -> np.ndarray:
+        for s in (0, 1):
+            self.lp[s] = self.lp[s] + self.alpha * (sole_velocity[s] - self.lp[s]) if touching[s] else 0.0
+        slip: np.ndarray = touching & (np.sum(self.lp**2, axis=1) > SLIP_SPEED**2)
+        return slip
+
+
+class LatencyPredictor:
+    """Eq. (1) of the module docstring over the ``latency`` ticks of commands still on their way."""
+
+    def __init__(self, model: Any, latency: int) -> None:
+        self.model = model
+        self.dt = float(model.opt.timestep)
+        self.pending: deque[np.ndarray] = deque(maxlen=max(int(latency), 1))
+        self.on = int(latency) > 0
+
+    def predict(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The state (nq,), (nv,) at the tick the next command acts, from the state now."""
+        if not self.on or not self.pending:
+            return qpos, qvel
+        q, v = qpos.copy(), qvel.copy()
+        for qdd in self.pending:
+            v += self.dt * qdd
+            mujoco.mj_integratePos(self.model, q, v, self.dt)
+        return q, v
+
+    def sent(self, qdd: np.ndarray | None) -> None:
+        """The command just sent planned ``qdd`` (nv,) (None when the QP failed: zero assumed)."""
+        if not self.on:
+            return
+        acc = np.zeros(self.model.nv) if qdd is None else np.asarray(qdd, float)
+        if not self.pending:  # the commands before the first: the first command, planned at rest
+            self.pending.extend(np.zeros_like(acc) for _ in range(self.pending.maxlen or 1))
+        self.pending.append(acc.copy())
+
+
+class ControllerState:
+    """Estimator, oracle path, latency prediction, friction belief and the controller's ``MjData``
+    (module docstring).
+
+    Args:
+        robot: the controller's robot model.
+        qpos0: the known start state (nq,), at rest.
+        profile: the sensor noise profile the estimator is tuned to (already scaled).
+        oracle: act on the frame's oracle state instead of the estimate.
+        estimator: base filter name; latency: ticks between a frame and its command acting.
+        assumed_friction: the friction assumed at start (None: :data:`DEFAULT_ASSUMED_FRICTION`).
+    """
+
+    def __init__(
+        self,
+        robot: RobotModel,
+        qpos0: np.ndarray,
+        profile: NoiseProfile,
+        oracle: bool,
+        estimator: str,
+        latency: int,
+        assumed_friction: float | None,
+    ) -> None:
+        m = robot.model
+        self.robot, self.oracle = robot, oracle
+        self.qpos0 = np.asarray(qpos0, float).copy()
+        self.cmodel = copy.copy(m)
+        self.cmodel.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+        self.cdata = mujoco.MjData(m)
+        self.predictor = LatencyPredictor(self.cmodel, latency)
+        self.mu = float(assumed_friction if assumed_friction is not None else DEFAULT_ASSUMED_FRICTION)
+        self._slip_prev = np.zeros(2, bool)
+        self.oracle_slip = OracleSlip(robot.dt)
+        self.estimator: StateEstimator | None = None
+        self.record: EstimateRecord | None = None
+        self.ticks = 0
+        if robot.imu_site is None:  # no IMU in the model: the truth only, and no estimate
+            if not oracle:
+                raise InputError("state", "estimated", "oracle: the robot's model has no IMU site")
+            return
+        on, off = noise_thresholds(profile.force, CONTACT_WINDOW)
+        self.estimator = StateEstimator.from_robot(
+            robot.robot,
+            robot.dt,
+            tuning=FilterTuning.from_profile(profile, robot.dt, init_tilt_std=START_TILT_STD),
+            filter=estimator,
+            imu_site=robot.imu_site,
+            contact_on=on,
+            contact_off=off,
+            debounce=1,
+            contact_window=CONTACT_WINDOW,
+        )
+        self.gyro_bias_walk = profile.gyro_bias_walk
+        self._reset = False  # reset at the first tick, unless a calibration came before it
+
+    def calibrate(self, still_gyro: np.ndarray) -> None:
+        """Restart the estimator from the start state with the gyro bias of a standstill: gyro readings
+        (N, 3) rad/s taken while the robot stood still (:mod:`gaitshift.control.estimation.calibration`)."""
+        if self.estimator is None:
+            return
+        calibration = GyroCalibration.from_samples(still_gyro, self.robot.dt, self.gyro_bias_walk)
+        self.estimator.reset(self.qpos0, np.zeros(self.robot.model.nv), (True, True), calibration)
+        self._reset = True
+
+    def observe(self, frame: SensorFrame, planned: np.ndarray) -> StateView:
+        """The tick's view from ``frame`` (with the plan's contact flags ``planned`` (2,))."""
+        first, self.ticks = self.ticks == 0, self.ticks + 1
+        if self.oracle and frame.oracle is None:
+            raise InputError("SensorFrame.oracle", None, "the world's state: this controller acts on the oracle")
+        if self.estimator is None:
+            return self._view(*self._oracle(frame))
+        if first and not self._reset:
+            self.estimator.reset(self.qpos0, np.zeros(self.robot.model.nv), (True, True))
+            self._reset = True
+        if first:  # the known start state (at rest, both feet down): the estimator was reset to it
+            q_est, v_est = self.qpos0, np.zeros(self.robot.model.nv)
+            touch_est, slip_est, com, com_vel, cost = np.ones(2, bool), np.zeros(2, bool), None, None, 0.0
+            fused = touch_est
+        else:
+            imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
+            joints = JointReading(q=frame.q, qd=frame.dq)
+            if frame.foot_force is None:
+                raise InputError(
+                    "SensorFrame.foot_force",
+                    None,
+                    "the sole normal forces, N (the estimator's contact detector reads them)",
+                )
+            forces = FootForces(normal=frame.foot_force)
+            t0 = time.perf_counter()
+            s = self.estimator.step(imu, joints, forces, planned)
+            cost = 1e6 * (time.perf_counter() - t0)
+            q_est, v_est, touch_est, slip_est, com, com_vel = s.qpos(), s.qvel(), s.stance, s.slip, s.com, s.com_vel
+            fused = s.contact
+        if self.oracle:
+            q, v, touching, slip = self._oracle(frame)
+        else:
+            q, v, touching, slip = q_est, v_est, touch_est, slip_est
+        view = self._view(q, v, touching, slip)
+        c = self.cdata
+        if com is None:  # the first tick: the start state, which the controller's data holds
+            com, com_vel = c.subtree_com[0].copy(), c.subtree_linvel[0].copy()
+        self.record = EstimateRecord(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
+        return view
+
+    def _oracle(self, frame: SensorFrame) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        o = frame.oracle
+        assert o is not None
+        touching = np.asarray(o.contact, bool)
+        return o.qpos.copy(), o.qvel.copy(), touching, self.oracle_slip.update(o.sole_velocity, touching)
+
+    def _view(self, q: np.ndarray, v: np.ndarray, touching: np.ndarray, slip: np.ndarray) -> StateView:
+        q, v = self.predictor.predict(q, v)
+        c = self.cdata
+        c.qpos[:], c.qvel[:] = q, v
+        mujoco.mj_forward(self.cmodel, c)
+        mujoco.mj_subtreeVel(self.cmodel, c)
+        return StateView(data=c, touching=np.asarray(touching, bool), slip=np.asarray(slip, bool))
+
+    def friction(self, gains: Any, view: StateView) -> Any:
+        """The gains with the friction assumed now (lowered at each slip onset, estimated state only)."""
+        onset = view.slip & ~self._slip_prev
+        self._slip_prev = view.slip.copy()
+        if onset.any() and not self.oracle:
+            self.mu = max(FRICTION_MIN, FRICTION_DROP * self.mu)
+        return gains if gains.mu == self.mu else _with_mu(gains, self.mu)
+
+    def position_std(self) -> float:
+        """Std (m) of the controller's base position along x: the estimator's (the InEKF's world-frame
+        covariance, error order R, v, p: row 6), 0 on the oracle or for a filter without a covariance."""
+        filt = self.estimator.filter if self.estimator is not None and not self.oracle else None
+        world_cov = getattr(filt, "world_covariance", None)
+        if world_cov is None:
+            return 0.0
+        return float(np.sqrt(max(world_cov()[6, 6], 0.0)))
+
+
+def _with_mu(gains: Any, mu: float) -> Any:
+    return replace(gains, mu=mu)
