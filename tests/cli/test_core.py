@@ -149,6 +149,8 @@ def test_full_quick_bench_runs_every_topic(tmp_path):
         "one online step",
         "whole-body IK",
         "G1 control tick",
+        "G1 estimator tick",
+        "SO(3) exp",
         "SLIP optimise",
         "IPOPT",
     ):

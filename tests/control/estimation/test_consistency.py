@@ -22,8 +22,8 @@ import pytest
 from estimation_truth import perturb, right_invariant_error, se23
 from scipy.stats import chi2
 
-from gaitshift.control.estimation import Channel, FilterTuning, NoiseProfile, make_filter, synthetic_walk
-from gaitshift.control.estimation.synthetic import synthetic_readings
+from gaitshift.bench.synthetic import synthetic_readings, synthetic_walk
+from gaitshift.control.estimation import Channel, FilterTuning, NoiseProfile, make_filter
 
 RUNS = 100
 EVERY = 250  # ticks between NEES samples (0.5 s)

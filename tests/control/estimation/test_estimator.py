@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from gaitshift.bench.g1sway import record_g1_sway
 from gaitshift.control.estimation import FILTERS, SensorNoise, StateEstimator
-from gaitshift.control.estimation.g1sway import record_g1_sway
 from gaitshift.errors import InputError
 from gaitshift.robots import load_robot
 

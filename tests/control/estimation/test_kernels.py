@@ -19,9 +19,9 @@ import mujoco
 import numpy as np
 import pytest
 
+from gaitshift.bench.g1sway import record_g1_sway
 from gaitshift.control.estimation import ContactDetector, StateEstimator, kernels
 from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, ContactFusion
-from gaitshift.control.estimation.g1sway import record_g1_sway
 from gaitshift.control.estimation.slip import SlipDetector
 from gaitshift.robots import load_robot
 

@@ -10,8 +10,8 @@ import pytest
 from estimation_truth import run
 from scipy.spatial.transform import Rotation
 
-from gaitshift.control.estimation import FilterTuning, make_filter, synthetic_walk
-from gaitshift.control.estimation.synthetic import synthetic_readings
+from gaitshift.bench.synthetic import synthetic_readings, synthetic_walk
+from gaitshift.control.estimation import FilterTuning, make_filter
 
 
 @pytest.fixture(scope="module")

@@ -9,8 +9,9 @@ Public API::
 
 The pieces (each usable alone): :class:`ContactDetector`, :class:`JointVelocityFilter`,
 :class:`LegKinematics`, the base filters :class:`InvariantEKF` and :class:`LegOdometry` (registry
-:data:`FILTERS`), the noise profiles :data:`PROFILES` with :class:`SensorNoise`, and
-:func:`synthetic_walk` (analytic ground truth). Equations and measured numbers: docs/estimation.md.
+:data:`FILTERS`) and the noise profiles :data:`PROFILES` with :class:`SensorNoise`. The test and
+benchmark inputs (a synthetic walk with analytic truth, a recorded G1 sway) live in
+:mod:`gaitshift.bench`. Equations and measured numbers: docs/estimation.md.
 """
 
 from gaitshift.control.estimation.calibration import GyroCalibration
@@ -22,7 +23,6 @@ from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import BodyKinematics, LegKinematics
 from gaitshift.control.estimation.noise import PROFILES, Channel, NoiseProfile, SensorNoise, noise_profile
 from gaitshift.control.estimation.odometry import LegOdometry
-from gaitshift.control.estimation.synthetic import SyntheticWalk, synthetic_walk
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import (
     BaseFilter,
@@ -57,8 +57,6 @@ __all__ = [
     "NoiseProfile",
     "SensorNoise",
     "StateEstimator",
-    "SyntheticWalk",
     "make_filter",
     "noise_profile",
-    "synthetic_walk",
 ]

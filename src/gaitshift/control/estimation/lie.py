@@ -3,7 +3,7 @@
 Group operations off the hot path come from mink's :mod:`mink.lie` (``SO3.exp``, ``log``, ``from_matrix``).
 On the per-tick path the filters call the C routines mink itself wraps (``mju_quatIntegrate``,
 ``mju_mulQuat``, ``mju_quat2Mat``) on preallocated arrays, with the SE_K(3) blocks from
-:func:`exp_blocks`: :func:`gaitshift.control.estimation.benchmark.lie_costs` measures mink's
+:func:`exp_blocks`: :func:`gaitshift.bench.estimation.lie_costs` measures mink's
 object API, a closed-form Rodrigues formula in ``math`` (:func:`rodrigues`) and the in-place calls, and
 ``docs/estimation.md`` reports the numbers that chose the in-place route.
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from gaitshift.control.estimation import synthetic_walk
+from gaitshift.bench.synthetic import synthetic_walk
 
 G = np.array([0.0, 0.0, -9.81])
 

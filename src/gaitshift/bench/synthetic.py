@@ -1,4 +1,5 @@
-"""Synthetic walking for estimator checks: an analytic floating base with two point feet.
+"""Synthetic walking for estimator checks and benchmarks: an analytic floating base with two point feet
+(the tests of gaitshift.control.estimation, benchmarks/estimation.py).
 
 Ground truth is closed-form, so the IMU signals are exact derivatives, not the output of an integrator
 under test. The IMU frame is the base frame. With ZYX Euler angles ``(phi, theta, psi)`` (roll, pitch,

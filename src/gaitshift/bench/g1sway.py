@@ -1,4 +1,5 @@
-"""A recorded G1 run for estimator checks: MuJoCo physics, the robot's own sensors, known truth.
+"""A recorded G1 run for estimator checks and benchmarks: MuJoCo physics, the robot's own sensors, known
+truth (the tests of gaitshift.control.estimation, gaitshift.bench.estimation, benchmarks/estimation.py).
 
 The Unitree G1 (Menagerie ``scene.xml``: floor, the shipped ``kp = 500`` position servos) stands on
 flat feet and sways: squat (knees 1.0 +- 0.15 rad at 0.5 Hz, ankles keeping the soles flat), lateral

@@ -1,6 +1,8 @@
 """Measured cost and accuracy of the estimator: the numbers of docs/estimation.md.
 
-    python -m gaitshift.control.estimation.benchmark [--trials 5] [--json out.json]
+    .venv/bin/python benchmarks/estimation.py [--trials 5] [--json out.json] [--skip-accuracy]
+
+(``gaitshift bench --only estimation`` gives the median and p99 of one run against its baselines.)
 
 * cost: one :class:`StateEstimator` tick (contact detection, joint filter, kinematics, base filter,
   CoM, slip; the compiled tick for the InEKFs) on the recorded G1 sway, timed with
@@ -18,62 +20,26 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import time
 import timeit
 from typing import Any
 
-import mujoco
 import numpy as np
-from mink.lie import SO3
 from scipy.spatial.transform import Rotation
 
+from gaitshift.bench.estimation import DEFAULT_COMPILED_FILTER, correction_ticks, lie_costs, tick_costs
+from gaitshift.bench.g1sway import RecordedRun, record_g1_sway
+from gaitshift.bench.synthetic import synthetic_readings, synthetic_walk
 from gaitshift.control.estimation.estimator import StateEstimator
 from gaitshift.control.estimation.filters import FILTERS, make_filter
-from gaitshift.control.estimation.g1sway import RecordedRun, record_g1_sway
-from gaitshift.control.estimation.lie import rodrigues
-from gaitshift.control.estimation.synthetic import synthetic_readings, synthetic_walk
 from gaitshift.control.estimation.tuning import FilterTuning
 
 PROFILES = ("typical", "rl-peer")
-#: a filter the compiled tick covers: one discarded run of it first, so that no trial pays numba's cache
-#: load (0.2 s) or compilation (7 s on a cold cache) in its first tick
-DEFAULT_COMPILED_FILTER = "inekf"
 
 
 def reference_us() -> float:
     """Time of a (3,) + (3,) numpy addition, us (the machine's current speed for small arrays)."""
     a = np.ones(3)
     return min(timeit.repeat(lambda: a + a, number=20000, repeat=5)) / 20000 * 1e6
-
-
-def lie_costs(n: int = 20000) -> dict[str, float]:
-    """Best-of-5 mean cost, us, of one SO(3) exponential as a 3 x 3 matrix, three routes."""
-    w = np.array([0.3e-3, -0.2e-3, 0.5e-3])
-    quat, mat = np.array([1.0, 0.0, 0.0, 0.0]), np.empty(9)
-
-    def mujoco_in_place() -> None:
-        mujoco.mju_quatIntegrate(quat, w, 1.0)
-        mujoco.mju_quat2Mat(mat, quat)
-
-    routes = {
-        "mink SO3.exp(w).as_matrix()": lambda: SO3.exp(w).as_matrix(),
-        "Rodrigues in math": lambda: rodrigues(w),
-        "MuJoCo in place (mju_quatIntegrate + mju_quat2Mat)": mujoco_in_place,
-    }
-    return {k: min(timeit.repeat(f, number=n, repeat=5)) / n * 1e6 for k, f in routes.items()}
-
-
-def tick_costs(robot: Any, run: RecordedRun, name: str, profile: str) -> np.ndarray:
-    """Per-tick cost, us, of the estimator over the recorded run."""
-    est = StateEstimator.from_robot(robot, run.dt, filter=name, noise=profile)
-    est.reset(run.qpos0, run.qvel0)
-    out = np.empty(len(run.imu))
-    clock = time.perf_counter
-    for k in range(len(run.imu)):
-        t0 = clock()
-        est.step(run.imu[k], run.joints[k], run.forces[k])
-        out[k] = clock() - t0
-    return out * 1e6
 
 
 def _rms(err: np.ndarray) -> float:
@@ -145,8 +111,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             load, ref = os.getloadavg()[0], reference_us()
             costs = tick_costs(robot, run, name, "typical")
             every = FilterTuning().correct_every if name.startswith("inekf") else 1
-            correcting = np.zeros(costs.size, dtype=bool)
-            correcting[every - 1 :: every] = True  # ticks every, 2 every, ... (1-based) correct
+            correcting = correction_ticks(costs.size, every)
             trials.append(
                 {
                     "median": float(np.median(costs)),
