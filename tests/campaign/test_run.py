@@ -8,16 +8,18 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import dask
 import pyarrow.parquet as pq
 import pytest
 
 from gaitshift.campaign.cases import expand
-from gaitshift.campaign.execute import FAULT_ENV
 from gaitshift.campaign.run import run_campaign
 from gaitshift.campaign.spec import load_spec
 from gaitshift.campaign.store import SCHEMA, Store
 
 WALK = Path(__file__).resolve().parents[2] / "docs" / "campaigns" / "g1-walk.yaml"
+PRELOAD = Path(__file__).with_name("fault_preload.py")
+MARKER_ENV = "GAITSHIFT_TEST_CAMPAIGN_FAULT"  # fault_preload.MARKER_ENV
 SPEC = f"""
 name: tiny
 task: plan
@@ -38,9 +40,10 @@ def campaign(tmp_path_factory):
     spec = load_spec(root / "spec.yaml")
     marker = root / "killed"
     mp = pytest.MonkeyPatch()
-    mp.setenv(FAULT_ENV, str(marker))  # the worker processes inherit it
-    try:
-        summary = run_campaign(spec, SPEC, root / "out", workers=2, echo=lambda line: None)
+    mp.setenv(MARKER_ENV, str(marker))  # the worker processes inherit it
+    try:  # the fault lives in the test: a worker preload that kills the first case's process
+        with dask.config.set({"distributed.worker.preload": [str(PRELOAD)]}):
+            summary = run_campaign(spec, SPEC, root / "out", workers=2, echo=lambda line: None)
     finally:
         mp.undo()
     return spec, root / "out", summary, marker

@@ -113,7 +113,7 @@ def test_live_commands_reach_a_live_plan_and_are_refused_by_an_offline_one(ctrl)
 
 def test_an_oracle_controller_refuses_a_frame_without_the_truth():
     c = Controller.from_scenario("g1-walk", state="oracle")
-    with pytest.raises(InputError, match="SensorFrame.oracle"):
+    with pytest.raises(InputError, match=r"SensorFrame\.oracle"):
         c.tick(_rest_frame(c))
 
 

@@ -32,8 +32,9 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from gaitshift.control.estimation.noise import NoiseProfile, SensorNoise
+from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
+from gaitshift.sim.sensor_noise import SensorNoise
 
 
 @dataclass(frozen=True)

@@ -30,8 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from gaitshift.control.estimation.noise import NoiseProfile, SensorNoise
+from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.types import FootKinematics, ImuReading
+from gaitshift.sim.sensor_noise import SensorNoise
 
 GRAVITY = 9.81
 

@@ -23,8 +23,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import signal
 import time
 from typing import Any
 
@@ -33,7 +31,7 @@ import numpy as np
 import gaitshift
 from gaitshift.errors import GaitshiftError
 
-__all__ = ["FAULT_ENV", "METRICS", "MOTIONS", "RUNNERS", "edited_scenario", "run_case"]
+__all__ = ["METRICS", "MOTIONS", "RUNNERS", "edited_scenario", "run_case"]
 
 #: result columns besides the case's parameters, and their Arrow types
 METRICS: dict[str, str] = {
@@ -57,10 +55,6 @@ METRICS: dict[str, str] = {
     "error": "string",
     "motion_file": "string",
 }
-
-#: fault injection for the test suite: when this variable names a file that does not exist yet, the
-#: first case a worker starts creates it and kills its own process (SIGKILL), once per campaign
-FAULT_ENV = "GAITSHIFT_CAMPAIGN_FAULT"
 
 
 def _finite(x: Any) -> float | None:
@@ -195,25 +189,11 @@ def _motion(case: dict[str, Any], cfg: Any, source: Any, extra: dict[str, Any]) 
     return {"t": np.asarray(t), "qpos": np.asarray(qpos), "qvel": np.asarray(qvel), "meta": json.dumps(meta)}
 
 
-def _fault_once() -> None:
-    marker = os.environ.get(FAULT_ENV)
-    if not marker:
-        return
-    try:  # O_EXCL: exactly one process of the campaign wins the marker and dies
-        fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
-    except FileExistsError:
-        return
-    os.write(fd, str(os.getpid()).encode())
-    os.close(fd)
-    os.kill(os.getpid(), signal.SIGKILL)
-
-
 def run_case(case: dict[str, Any], scenario: Any) -> dict[str, Any]:
     """Run one case (module docstring) in this process and return its row and motion."""
     from gaitshift.api import with_robot
     from gaitshift.robots import load_robot
 
-    _fault_once()
     wall0, cpu0 = time.perf_counter(), time.process_time()
     row: dict[str, Any] = dict.fromkeys(METRICS) | dict(case)
     motion = None

@@ -29,9 +29,10 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from gaitshift.control.estimation.noise import NoiseProfile, SensorNoise
+from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
 from gaitshift.errors import InputError
+from gaitshift.sim.sensor_noise import SensorNoise
 from gaitshift.sim.sensor_spec import SOLE_TOUCH_SENSORS
 
 

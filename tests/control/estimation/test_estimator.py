@@ -14,9 +14,10 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from gaitshift.bench.g1sway import record_g1_sway
-from gaitshift.control.estimation import FILTERS, SensorNoise, StateEstimator
+from gaitshift.control.estimation import FILTERS, StateEstimator
 from gaitshift.errors import InputError
 from gaitshift.robots import load_robot
+from gaitshift.sim.sensor_noise import SensorNoise
 
 
 @pytest.fixture(scope="module")

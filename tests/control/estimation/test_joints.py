@@ -9,8 +9,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitshift.control.estimation import FilterTuning, JointVelocityFilter, SensorNoise
+from gaitshift.control.estimation import FilterTuning, JointVelocityFilter
 from gaitshift.errors import InputError
+from gaitshift.sim.sensor_noise import SensorNoise
 
 DT = 0.002
 

@@ -9,8 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from gaitshift.control.estimation import PROFILES, Channel, FilterTuning, SensorNoise, noise_profile
+from gaitshift.control.estimation import PROFILES, Channel, FilterTuning, noise_profile
 from gaitshift.errors import InputError
+from gaitshift.sim.sensor_noise import SensorNoise
 
 DT = 0.002
 

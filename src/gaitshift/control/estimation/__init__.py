@@ -9,7 +9,8 @@ Public API::
 
 The pieces (each usable alone): :class:`ContactDetector`, :class:`JointVelocityFilter`,
 :class:`LegKinematics`, the base filters :class:`InvariantEKF` and :class:`LegOdometry` (registry
-:data:`FILTERS`) and the noise profiles :data:`PROFILES` with :class:`SensorNoise`. The test and
+:data:`FILTERS`) and the noise profiles :data:`PROFILES` (the world's corrupter:
+:class:`gaitshift.sim.sensor_noise.SensorNoise`). The test and
 benchmark inputs (a synthetic walk with analytic truth, a recorded G1 sway) live in
 :mod:`gaitshift.bench`. Equations and measured numbers: docs/estimation.md.
 """
@@ -21,7 +22,7 @@ from gaitshift.control.estimation.filters import DEFAULT_FILTER, FILTERS, make_f
 from gaitshift.control.estimation.inekf import InvariantEKF
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import BodyKinematics, LegKinematics
-from gaitshift.control.estimation.noise import PROFILES, Channel, NoiseProfile, SensorNoise, noise_profile
+from gaitshift.control.estimation.noise import PROFILES, Channel, NoiseProfile, noise_profile
 from gaitshift.control.estimation.odometry import LegOdometry
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import (
@@ -55,7 +56,6 @@ __all__ = [
     "LegKinematics",
     "LegOdometry",
     "NoiseProfile",
-    "SensorNoise",
     "StateEstimator",
     "make_filter",
     "noise_profile",

@@ -1,4 +1,5 @@
-"""Sensor noise profiles, and a seeded corrupter that turns true signals into what a robot reads.
+"""Sensor noise profiles: what the estimator is tuned to (the simulated world corrupts its sensors with
+the same profiles, :class:`gaitshift.sim.sensor_noise.SensorNoise`).
 
 A :class:`NoiseProfile` describes every sensor the estimator uses; :data:`PROFILES` holds the named
 ones (the registry, see ``docs/estimation.md`` for the sources):
@@ -27,7 +28,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
 from gaitshift.errors import InputError
 
 GRAVITY = 9.81
@@ -175,60 +175,3 @@ def noise_profile(name: str | NoiseProfile) -> NoiseProfile:
     if name not in PROFILES:
         raise InputError("noise", name, "one of: " + ", ".join(PROFILES))
     return PROFILES[name]
-
-
-class SensorNoise:
-    """Corrupts true signals into readings, per a :class:`NoiseProfile` (seeded, one instance per run).
-
-    Args:
-        profile: the noise profile (or its name).
-        dt: sample period, s.
-        n_joints: number of joints.
-        weight: robot weight, N (scales the force noise).
-        seed: random seed.
-    """
-
-    def __init__(self, profile: str | NoiseProfile, dt: float, n_joints: int, weight: float, seed: int = 0):
-        self.profile = noise_profile(profile)
-        self.dt = float(dt)
-        self.weight = float(weight)
-        self.rng = np.random.default_rng(seed)
-        p = self.profile
-        #: current true biases (turn-on offset plus random walk), rad/s and m/s^2
-        self.gyro_bias = self.rng.normal(0.0, p.gyro_bias, 3) if p.gyro_bias > 0 else np.zeros(3)
-        self.accel_bias = self.rng.normal(0.0, p.accel_bias, 3) if p.accel_bias > 0 else np.zeros(3)
-        self._q_prev: np.ndarray | None = None
-        self.n_joints = n_joints
-
-    def imu(self, gyro: np.ndarray, accel: np.ndarray) -> ImuReading:
-        """The IMU reading of the true angular velocity (3,) and specific force (3,), IMU frame."""
-        p, dt, rng = self.profile, self.dt, self.rng
-        if p.gyro_bias_walk > 0:
-            self.gyro_bias = self.gyro_bias + rng.normal(0.0, p.gyro_bias_walk * math.sqrt(dt), 3)
-        if p.accel_bias_walk > 0:
-            self.accel_bias = self.accel_bias + rng.normal(0.0, p.accel_bias_walk * math.sqrt(dt), 3)
-        return ImuReading(
-            gyro=np.asarray(gyro, dtype=float) + self.gyro_bias + p.gyro.sample(rng, dt, (3,)),
-            accel=np.asarray(accel, dtype=float) + self.accel_bias + p.accel.sample(rng, dt, (3,)),
-        )
-
-    def joints(self, q: np.ndarray, qd: np.ndarray) -> JointReading:
-        """Encoder and driver readings of the true joint positions and velocities (nj,)."""
-        p, dt, rng = self.profile, self.dt, self.rng
-        q_read = np.asarray(q, dtype=float) + p.joint_pos.sample(rng, dt, (self.n_joints,))
-        lsb = p.encoder_lsb
-        if lsb > 0:
-            q_read = np.round(q_read / lsb) * lsb
-        if p.velocity_from_encoder:
-            prev = self._q_prev if self._q_prev is not None else q_read - np.asarray(qd) * dt
-            qd_read = (q_read - prev) / dt
-        else:
-            qd_read = np.asarray(qd, dtype=float).copy()
-        self._q_prev = q_read
-        qd_read = qd_read + p.joint_vel.sample(rng, dt, (self.n_joints,))
-        return JointReading(q=q_read, qd=qd_read)
-
-    def forces(self, normal: np.ndarray) -> FootForces:
-        """The per-sole normal-force signal (2,) N of the true normal forces."""
-        noise = self.rng.normal(0.0, self.profile.force * self.weight, 2) if self.profile.force > 0 else 0.0
-        return FootForces(normal=np.asarray(normal, dtype=float) + noise)
