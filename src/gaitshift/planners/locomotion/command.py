@@ -10,7 +10,7 @@ Gait selection (``auto``) uses the speed ``|v| = hypot(vx, vy)`` of the larger o
 command (:meth:`~gaitshift.planners.locomotion.policy.TargetPolicy.gait_speed`) with hysteresis: walking
 switches to running above ``walk_to_run`` (v_up) and running switches back below ``run_to_walk``
 (v_down < v_up). A command that hovers between the two keeps the current gait; one oscillating by
-less than v_up - v_down around a threshold switches at most once. docs/online.md derives the default
+less than v_up - v_down around a threshold switches at most once. docs/locomotion.md derives the default
 thresholds from the robot's leg length (Froude number).
 """
 

@@ -1,6 +1,6 @@
 """The locomotion generator: a live (vx, vy, yaw rate) command in, exact CoM/ZMP/feet samples out.
 
-Streaming API (the same shape as :class:`gaitshift.planners.online.generator.OnlineGenerator`):
+Streaming API (the same shape as :class:`gaitshift.planners.vhip.generator.VhipGenerator`):
 
 * :meth:`LocomotionGenerator.command` sets (vx, vy, yaw_rate), clamped to the limits (events);
 * :meth:`~LocomotionGenerator.tick` emits one sample, :meth:`~LocomotionGenerator.advance` n samples,
@@ -46,8 +46,8 @@ from gaitshift.planners.locomotion.record import StepRecord, phase_samples
 from gaitshift.planners.locomotion.samples import LocoSamples, concat, locomotion_meta, trajectory_from
 from gaitshift.planners.locomotion.steps import SUCCESSOR, Gait, StepType, build_step_types
 from gaitshift.planners.locomotion.writer import StepWriter
-from gaitshift.planners.online.clock import SampleClock
-from gaitshift.planners.online.events import Event
+from gaitshift.planners.vhip.clock import SampleClock
+from gaitshift.planners.vhip.events import Event
 from gaitshift.trajectory.contract import LEFT, RIGHT, Trajectory
 
 __all__ = ["LocomotionGenerator"]

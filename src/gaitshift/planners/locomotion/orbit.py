@@ -13,7 +13,7 @@ the displacement ``d`` given in the landing foot's frame, ``S = (x, y, vx, vy)``
 Feet alternate sides, so the orbit has period two: from a left stance with displacements
 ``d_L`` (left -> right) then ``d_R`` (right -> left), ``S*_L = (I - Q^2)^-1 (Q b(d_L) + b(d_R))``.
 
-Speed semantics (docs/online.md): the stride-mean velocity is the CoM displacement over two
+Speed semantics (docs/locomotion.md): the stride-mean velocity is the CoM displacement over two
 consecutive steps divided by their duration, in the heading frame at the middle of those steps. On a
 straight orbit it is ``(d_L + d_R) / 2 tau`` whichever step the stride starts on. On a turning orbit
 the CoM offset from the feet rotates too, so the two strides (starting on the left or on the right)

@@ -1,6 +1,6 @@
 """Writing committed steps into the sample buffer: the CoM by closed forms, the feet by their swings.
 
-:class:`StepWriter` owns the look-ahead buffer (:class:`~gaitshift.planners.online.buffer.SampleBuffer`
+:class:`StepWriter` owns the look-ahead buffer (:class:`~gaitshift.planners.vhip.buffer.SampleBuffer`
 of :data:`~.samples.FIELDS`), the two foot tracks (:class:`~.feet.FootTrack`), the list of footholds
 landed on and the CoM state at the end of the last step written. Every step is written whole when it
 is committed (and again from the re-plan sample on after a re-plan): the step's end state is
@@ -26,7 +26,7 @@ from gaitshift.planners.locomotion.record import StepRecord
 from gaitshift.planners.locomotion.samples import FIELDS, LocoSamples
 from gaitshift.planners.locomotion.sampling import Segment, sample_segment, segment_end
 from gaitshift.planners.locomotion.steps import STEP_CODES
-from gaitshift.planners.online.buffer import SampleBuffer
+from gaitshift.planners.vhip.buffer import SampleBuffer
 from gaitshift.trajectory.contract import DS, FLIGHT, LEFT, RIGHT, SS
 
 __all__ = ["StepWriter"]

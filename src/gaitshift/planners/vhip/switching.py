@@ -26,7 +26,7 @@ Eq. (18) as printed has ``2 dT x'_1`` in ``b_2``; the Hermite conditions need ``
 (see :func:`hermite_coefficients` and docs/vhip.md).
 
 IPOPT (casadi, optional extra ``gaitshift[ipopt]``) solves the very same problem as a reference:
-:func:`gaitshift.planners.online.switching_ipopt.solve_switching_ipopt`.
+:func:`gaitshift.planners.vhip.switching_ipopt.solve_switching_ipopt`.
 """
 
 from __future__ import annotations
@@ -367,7 +367,7 @@ def solve_stop(
     prob: SwitchingProblem, solver: StartSolver | None = None
 ) -> tuple[SwitchingSolution, FloatArray, FloatArray]:
     """Solve a stop built by :func:`stop_problem`; ``solver`` (ours by default, or
-    :class:`~gaitshift.planners.online.switching_ipopt.IpoptSwitching`) must be prepared on the
+    :class:`~gaitshift.planners.vhip.switching_ipopt.IpoptSwitching`) must be prepared on the
     reversed weights.
 
     Returns (solution of the reversed problem, CoM (n+1, 2) in forward time relative to A,

@@ -1,9 +1,9 @@
 """Closed-loop driver of the online VHIP generator (paper 003): re-plan every step from the measured CoM.
 
 The scenario's scripted speed commands are fed to a live
-:class:`~gaitshift.planners.online.generator.OnlineGenerator` as simulated time passes. At every
+:class:`~gaitshift.planners.vhip.generator.VhipGenerator` as simulated time passes. At every
 planning instant (the take-off that plans the next step) the generator re-plans from the **measured**
-CoM position and velocity (``OnlineGenerator.replan``: the committed footholds are kept, the next
+CoM position and velocity (``VhipGenerator.replan``: the committed footholds are kept, the next
 foothold is chosen again by Algorithm 1 of paper 003), so drift is corrected by footholds as the paper
 intends. The remainder of the run is then generated on a copy of the generator, which gives the loop
 its look-ahead (swing targets, contact schedule).
@@ -16,13 +16,13 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.planners.online.generator import OnlineGenerator
-from gaitshift.planners.online.script import CommandScript
+from gaitshift.planners.vhip.generator import VhipGenerator
+from gaitshift.planners.vhip.script import CommandScript
 from gaitshift.trajectory.contract import Trajectory
 
 
-class OnlineReplanner:
-    """Drive an :class:`OnlineGenerator` through a closed-loop run (see module docstring).
+class VhipDriver:
+    """Drive an :class:`VhipGenerator` through a closed-loop run (see module docstring).
 
     Args:
         scenario: an online (``vhip``) scenario with its scripted ``commands`` and ``stop_at``.
@@ -34,7 +34,7 @@ class OnlineReplanner:
 
     def __init__(self, scenario: Any) -> None:
         self.sc = scenario
-        self.gen = OnlineGenerator(scenario)
+        self.gen = VhipGenerator(scenario)
         self.script = CommandScript.from_scenario(scenario)
         self._done: set[int] = set()
         self.replans = 0

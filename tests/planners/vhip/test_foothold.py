@@ -12,7 +12,7 @@ import pytest
 import gaitshift
 from gaitshift.models.tridiagonal import Horizon, tridiagonal_system
 from gaitshift.models.vhip import row_weights, stance_profiles
-from gaitshift.planners.online.foothold import target_foothold
+from gaitshift.planners.vhip.foothold import target_foothold
 
 G, DT = 9.81, 0.004
 

@@ -4,7 +4,7 @@ All running steps share one vertical CoM profile, hence one tridiagonal matrix: 
 (:class:`~gaitshift.models.tridiagonal.Horizon`) and each step costs one back-substitution. The same
 holds for the start (standing double support + first stance, State Switching 1) and the stop (flight,
 last stance, final double support, State Switching 3), whose segmented ZMP problems get prepared
-solvers (:class:`~gaitshift.planners.online.switching.SwitchingSolver`).
+solvers (:class:`~gaitshift.planners.vhip.switching.SwitchingSolver`).
 
 The unit responses U (to the start velocity) and V (to the end velocity) of the running step give the
 lateral oscillation in closed form: after a left stance the CoM leaves with ``-u`` (to the right) and
@@ -20,7 +20,7 @@ import numpy as np
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.tridiagonal import Horizon
 from gaitshift.models.vhip import VerticalGait, row_weights, stance_profiles
-from gaitshift.planners.online.switching import SwitchingSolver
+from gaitshift.planners.vhip.switching import SwitchingSolver
 from gaitshift.scenario.vhip import VhipScenario
 from gaitshift.trajectory.contract import LEFT
 

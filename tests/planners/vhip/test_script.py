@@ -11,8 +11,8 @@ import pytest
 
 import gaitshift
 from gaitshift.errors import InfeasibleError
-from gaitshift.planners.online.generator import OnlineGenerator
-from gaitshift.planners.online.script import CommandScript
+from gaitshift.planners.vhip.generator import VhipGenerator
+from gaitshift.planners.vhip.script import CommandScript
 
 
 class Recorder:
@@ -102,7 +102,7 @@ def test_the_scenario_script_stops_two_seconds_after_the_last_command_by_default
     sc = gaitshift.load_scenario({"planner": "vhip", "dt": 0.004, "commands": [{"t": 0.0, "vx": 0.3}, {"t": 2.0}]})
     script = CommandScript.from_scenario(sc)
     assert script.commands == ((0.0, 0.3, 0.0), (2.0, 0.0, 0.0)) and script.stop_at == 4.0
-    gen = OnlineGenerator(sc)
+    gen = VhipGenerator(sc)
     script.run(gen)
     assert gen.finished and gen.command_velocity.tolist() == [0.0, 0.0]
     assert any(e.kind == "stop" and abs(e.t - 4.0) < 1e-9 for e in gen.events)

@@ -102,7 +102,7 @@ def test_plan_cli_writes_the_vhip_contract(tmp_path, cli):
 
 
 def test_figures_3_4_7_are_written(tmp_path):
-    from gaitshift.plots.online import write_figures
+    from gaitshift.plots.vhip import write_figures
 
     tr = gaitshift.plan("paper003-variable-speed")
     paths = write_figures(tr, tmp_path)

@@ -20,14 +20,14 @@ import numpy as np
 
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.vhip import row_weights
-from gaitshift.planners.online.emission import contact_of, plan_buffer, write_segment
-from gaitshift.planners.online.events import Event, Takeoff
-from gaitshift.planners.online.foothold import FootholdResult, target_foothold
-from gaitshift.planners.online.horizons import VhipHorizons
-from gaitshift.planners.online.limits import clamp_by_strides, clip_change, stride_window
-from gaitshift.planners.online.swings import FootTracks
-from gaitshift.planners.online.switching import SwitchingSolution
-from gaitshift.planners.online.transitions import solve_start, solve_stop
+from gaitshift.planners.vhip.emission import contact_of, plan_buffer, write_segment
+from gaitshift.planners.vhip.events import Event, Takeoff
+from gaitshift.planners.vhip.foothold import FootholdResult, target_foothold
+from gaitshift.planners.vhip.horizons import VhipHorizons
+from gaitshift.planners.vhip.limits import clamp_by_strides, clip_change, stride_window
+from gaitshift.planners.vhip.swings import FootTracks
+from gaitshift.planners.vhip.switching import SwitchingSolution
+from gaitshift.planners.vhip.transitions import solve_start, solve_stop
 from gaitshift.scenario.vhip import VhipScenario
 from gaitshift.trajectory.contract import FLIGHT, LEFT, RIGHT, SS
 

@@ -7,8 +7,8 @@ Oracles: differences and sqrt(z / (z'' + g)) recomputed here from the values wri
 
 import numpy as np
 
-from gaitshift.planners.online.emission import contact_of, emit_samples, hold_at_rest, plan_buffer, write_segment
-from gaitshift.planners.online.swings import FootTracks
+from gaitshift.planners.vhip.emission import contact_of, emit_samples, hold_at_rest, plan_buffer, write_segment
+from gaitshift.planners.vhip.swings import FootTracks
 from gaitshift.trajectory.contract import DS, FLIGHT, SS
 
 G, DT = 9.81, 0.01

@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 from switching_cases import DT, N_DS, dense_com, start_problem
 
-from gaitshift.planners.online.switching import solve_switching
-from gaitshift.planners.online.switching_ipopt import solve_switching_ipopt
+from gaitshift.planners.vhip.switching import solve_switching
+from gaitshift.planners.vhip.switching_ipopt import solve_switching_ipopt
 
 
 def test_ours_and_ipopt_solve_the_same_problem():

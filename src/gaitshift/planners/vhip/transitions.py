@@ -1,7 +1,7 @@
 """Start and stop of a VHIP run as plan segments (paper 003, State Switching 1 and 3).
 
 * :func:`solve_start`: the standing double support and the first stance up to the first take-off.
-  The segmented ZMP problem (:mod:`gaitshift.planners.online.switching`) is solved for the wanted
+  The segmented ZMP problem (:mod:`gaitshift.planners.vhip.switching`) is solved for the wanted
   take-off velocity; when no ZMP inside the feet reaches it, the fastest feasible fraction of it
   (bisection on the scale, 20 halvings).
 * :func:`solve_stop`: from a take-off through the flight, the last stance on foot A and the final
@@ -20,9 +20,9 @@ import numpy as np
 
 from gaitshift.errors import InfeasibleError
 from gaitshift.models.arrays import FloatArray, Int8Array
-from gaitshift.planners.online.horizons import VhipHorizons
-from gaitshift.planners.online.switching import SwitchingProblem, SwitchingSolution, stop_problem
-from gaitshift.planners.online.switching import solve_stop as solve_stop_problem
+from gaitshift.planners.vhip.horizons import VhipHorizons
+from gaitshift.planners.vhip.switching import SwitchingProblem, SwitchingSolution, stop_problem
+from gaitshift.planners.vhip.switching import solve_stop as solve_stop_problem
 from gaitshift.trajectory.contract import DS, FLIGHT, LEFT, SS
 
 __all__ = ["StartSegment", "StopSegment", "solve_start", "solve_stop"]

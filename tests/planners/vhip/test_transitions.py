@@ -9,8 +9,8 @@ the support boxes built from the feet), no solver output used as reference.
 import numpy as np
 
 import gaitshift
-from gaitshift.planners.online.horizons import VhipHorizons
-from gaitshift.planners.online.transitions import solve_start, solve_stop
+from gaitshift.planners.vhip.horizons import VhipHorizons
+from gaitshift.planners.vhip.transitions import solve_start, solve_stop
 from gaitshift.trajectory.contract import DS, FLIGHT, LEFT
 
 

@@ -8,7 +8,7 @@ from the returned velocity.
 import numpy as np
 import pytest
 
-from gaitshift.planners.online.limits import clamp_by_strides, clip_change, speed_limit, stride_window
+from gaitshift.planners.vhip.limits import clamp_by_strides, clip_change, speed_limit, stride_window
 
 
 def test_changes_within_the_limit_pass_unchanged_and_larger_ones_are_clamped():

@@ -9,7 +9,7 @@ builds the sextic per sample instead of reusing a basis).
 import numpy as np
 
 from gaitshift.gait.swing import swing_path
-from gaitshift.planners.online.swings import FootTracks
+from gaitshift.planners.vhip.swings import FootTracks
 
 
 def _tracks():

@@ -1,14 +1,14 @@
 """The online VHIP running generator of paper 003: start, run with streamed speed commands, stop.
 
-:class:`OnlineGenerator` holds the plan across calls so a controller can call it every control tick:
+:class:`VhipGenerator` holds the plan across calls so a controller can call it every control tick:
 
-* :meth:`OnlineGenerator.command` sets the commanded speed (vx, vy). Values beyond the scenario
-  limits are clamped to the nearest feasible value and reported in :attr:`OnlineGenerator.events`.
-* :meth:`OnlineGenerator.tick` advances one control period and returns that sample;
-  :meth:`OnlineGenerator.step` advances to the next planning instant (one running step);
-  :meth:`OnlineGenerator.advance` advances any number of ticks.
-* :meth:`OnlineGenerator.replan` re-plans from a measured CoM state (position, velocity).
-* :meth:`OnlineGenerator.stop` requests the stop to standstill.
+* :meth:`VhipGenerator.command` sets the commanded speed (vx, vy). Values beyond the scenario
+  limits are clamped to the nearest feasible value and reported in :attr:`VhipGenerator.events`.
+* :meth:`VhipGenerator.tick` advances one control period and returns that sample;
+  :meth:`VhipGenerator.step` advances to the next planning instant (one running step);
+  :meth:`VhipGenerator.advance` advances any number of ticks.
+* :meth:`VhipGenerator.replan` re-plans from a measured CoM state (position, velocity).
+* :meth:`VhipGenerator.stop` requests the stop to standstill.
 
 Timeline. The stance of step k ends with the take-off ``to_k``. At ``to_k`` the foot of stance k
 lifts off and swings to the foothold of stance k+2, so that foothold, and the CoM of the step
@@ -34,22 +34,22 @@ import numpy as np
 from gaitshift.errors import InfeasibleError, InputError
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.vhip import FORCE_EPS
-from gaitshift.planners.online.clock import SampleClock
-from gaitshift.planners.online.emission import emit_samples, hold_at_rest
-from gaitshift.planners.online.events import Event, Takeoff
-from gaitshift.planners.online.horizons import VhipHorizons
-from gaitshift.planners.online.limits import speed_limit
-from gaitshift.planners.online.samples import Samples
-from gaitshift.planners.online.script import Command, CommandScript
-from gaitshift.planners.online.steps import AXES, StepPlanner
-from gaitshift.planners.online.switching import SwitchingSolution
+from gaitshift.planners.vhip.clock import SampleClock
+from gaitshift.planners.vhip.emission import emit_samples, hold_at_rest
+from gaitshift.planners.vhip.events import Event, Takeoff
+from gaitshift.planners.vhip.horizons import VhipHorizons
+from gaitshift.planners.vhip.limits import speed_limit
+from gaitshift.planners.vhip.samples import Samples
+from gaitshift.planners.vhip.script import Command, CommandScript
+from gaitshift.planners.vhip.steps import AXES, StepPlanner
+from gaitshift.planners.vhip.switching import SwitchingSolution
 from gaitshift.scenario.vhip import VhipScenario
 from gaitshift.trajectory.contract import RUN, STAND, Trajectory, standing_samples
 
-__all__ = ["Event", "OnlineGenerator", "Samples", "Takeoff", "plan_scenario", "run_commands"]
+__all__ = ["Event", "Samples", "Takeoff", "VhipGenerator", "plan_scenario", "run_commands"]
 
 
-class OnlineGenerator(SampleClock):
+class VhipGenerator(SampleClock):
     """Stateful running generator for a :class:`~gaitshift.scenario.vhip.VhipScenario` (see module doc)."""
 
     def __init__(self, scenario: VhipScenario, keep_history: bool = True):
@@ -328,8 +328,8 @@ class OnlineGenerator(SampleClock):
 
 
 def run_commands(
-    gen: OnlineGenerator, commands: list[Command], stop_at: float, max_time: float = 3600.0
-) -> OnlineGenerator:
+    gen: VhipGenerator, commands: list[Command], stop_at: float, max_time: float = 3600.0
+) -> VhipGenerator:
     """Drive ``gen`` with a scripted profile of (t, vx, vy) commands, request the stop at ``stop_at``
     and run until the generator is at rest (:meth:`CommandScript.run`). A command is applied at the
     first tick with t >= its time (commands already due are applied before the next tick)."""
@@ -340,6 +340,6 @@ def run_commands(
 def plan_scenario(sc: VhipScenario) -> Trajectory:
     """Run the scenario's scripted command profile through the online generator; the whole run
     (start, running, stop at rest) as the standard trajectory contract (meta.planner = "vhip")."""
-    gen = OnlineGenerator(sc)
+    gen = VhipGenerator(sc)
     CommandScript.from_scenario(sc).run(gen)
     return gen.trajectory()

@@ -12,7 +12,7 @@ from switching_cases import DT, N_DS, N_FLY, N_SUP, G, dense_com, start_problem,
 
 from gaitshift.errors import InfeasibleError
 from gaitshift.models.vhip import row_weights
-from gaitshift.planners.online.switching import (
+from gaitshift.planners.vhip.switching import (
     SwitchingSolver,
     hermite_coefficients,
     smoothness,

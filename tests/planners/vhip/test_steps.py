@@ -8,8 +8,8 @@ planned samples; the take-off velocity from the CoM differences.
 import numpy as np
 
 import gaitshift
-from gaitshift.planners.online.horizons import VhipHorizons
-from gaitshift.planners.online.steps import StepPlanner
+from gaitshift.planners.vhip.horizons import VhipHorizons
+from gaitshift.planners.vhip.steps import StepPlanner
 
 G = 9.81
 

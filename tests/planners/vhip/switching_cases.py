@@ -8,7 +8,7 @@ import numpy as np
 import gaitshift
 from gaitshift.models.tridiagonal import tridiagonal_system
 from gaitshift.models.vhip import VerticalGait, row_weights, stance_profiles
-from gaitshift.planners.online.switching import SwitchingProblem
+from gaitshift.planners.vhip.switching import SwitchingProblem
 
 G, DT, N_DS, N_SUP, N_FLY = 9.81, 0.004, 300, 70, 30
 

@@ -1,7 +1,7 @@
 """IPOPT reference for the start and stop problem of paper 003 (§3.2, eqs. (15)-(18)).
 
 The paper solves State Switching 1 and 3 with IPOPT; :class:`IpoptSwitching` poses the very same
-problem as our solver (:mod:`gaitshift.planners.online.switching`: the segmented cubic ZMP of eq. (16)
+problem as our solver (:mod:`gaitshift.planners.vhip.switching`: the segmented cubic ZMP of eq. (16)
 with the smoothness objective) for IPOPT through casadi, the optional extra ``gaitshift[ipopt]``
 (imported lazily). ``gaitshift bench --only vhip.switching`` compares both; the tests check that they
 reach the same optimum.
@@ -16,7 +16,7 @@ import numpy as np
 from gaitshift.errors import InfeasibleError
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.tridiagonal import Horizon
-from gaitshift.planners.online.switching import (
+from gaitshift.planners.vhip.switching import (
     MIN_SEGMENT,
     SwitchingProblem,
     SwitchingSolution,

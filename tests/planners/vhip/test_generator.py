@@ -16,7 +16,7 @@ from scipy.spatial import ConvexHull
 
 import gaitshift
 from gaitshift.errors import InfeasibleError, InputError
-from gaitshift.planners.online.generator import OnlineGenerator, plan_scenario, run_commands
+from gaitshift.planners.vhip.generator import VhipGenerator, plan_scenario, run_commands
 from gaitshift.trajectory.contract import DS, FLIGHT, SS
 
 G = 9.81
@@ -177,7 +177,7 @@ def test_random_commands_within_limits_are_reached_two_steps_later(changes, firs
         vy = float(np.sign(vy) * max(abs(vy) - 0.05, 0.0)) if abs(vy) > 1e-12 else 0.0
         vx, vy = round(vx, 12), round(vy, 12)
         cmds.append((t, vx, vy))
-    gen = run_commands(OnlineGenerator(sc), cmds, stop_at=max(t + 0.8, 3.0))
+    gen = run_commands(VhipGenerator(sc), cmds, stop_at=max(t + 0.8, 3.0))
     tr = gen.trajectory()
     assert not [e for e in gen.events if e.kind.startswith("clamp")], gen.events
     check_takeoff_speeds(tr)
@@ -188,9 +188,7 @@ def test_contact_switch_accelerations_are_configurable():
     """touchdown_acc / takeoff_acc above -g: the vertical force jumps at the switch; the touchdown
     sample belongs to the stance, the take-off sample to the flight, and every check still holds."""
     sc = _small_scenario(dt=0.001, heights={"touchdown_acc": -6.0, "takeoff_acc": -9.0})
-    tr = run_commands(
-        OnlineGenerator(sc), [(0.0, 0.0, 0.0), (1.5, 0.3, 0.0), (3.0, 0.0, 0.0)], stop_at=4.0
-    ).trajectory()
+    tr = run_commands(VhipGenerator(sc), [(0.0, 0.0, 0.0), (1.5, 0.3, 0.0), (3.0, 0.0, 0.0)], stop_at=4.0).trajectory()
     ph = tr.phase
     td = np.flatnonzero((ph[1:] == SS) & (ph[:-1] == FLIGHT)) + 1
     to = _takeoffs(tr)
@@ -205,7 +203,7 @@ def test_contact_switch_accelerations_are_configurable():
 
 
 def test_commands_beyond_the_limits_are_clamped_and_reported():
-    gen = OnlineGenerator(_small_scenario())
+    gen = VhipGenerator(_small_scenario())
     # x: limits.max_speed; y: the steady lateral stride step_width - vy T_step must keep one foot width
     np.testing.assert_allclose(gen.command(9.0, -2.0), [1.5, -(0.2 - 0.12) / 0.4], atol=1e-12)
     kinds = [(e.kind, e.field) for e in gen.events]
@@ -226,7 +224,7 @@ def test_commands_beyond_the_limits_are_clamped_and_reported():
 
 
 def test_tick_by_tick_equals_block_advance():
-    a, b = OnlineGenerator(_small_scenario()), OnlineGenerator(_small_scenario())
+    a, b = VhipGenerator(_small_scenario()), VhipGenerator(_small_scenario())
     a.command(0.3, 0.05)
     b.command(0.3, 0.05)
     for _ in range(900):
@@ -239,7 +237,7 @@ def test_tick_by_tick_equals_block_advance():
 
 
 def test_replan_from_a_measured_state_continues_from_it():
-    gen = OnlineGenerator(_small_scenario())
+    gen = VhipGenerator(_small_scenario())
     gen.command(0.6, 0.0)
     for _ in range(6):
         gen.step()
@@ -275,7 +273,7 @@ def test_replan_from_a_measured_state_continues_from_it():
 
 
 def test_without_history_the_generator_keeps_running_but_has_no_trajectory():
-    gen = OnlineGenerator(_small_scenario(), keep_history=False)
+    gen = VhipGenerator(_small_scenario(), keep_history=False)
     gen.command(0.3, 0.0)
     blocks = [gen.step() for _ in range(10)]
     assert sum(len(b) for b in blocks) == gen.tick_index
@@ -285,7 +283,7 @@ def test_without_history_the_generator_keeps_running_but_has_no_trajectory():
 
 
 def test_replan_outside_running_is_refused():
-    gen = OnlineGenerator(_small_scenario())
+    gen = VhipGenerator(_small_scenario())
     gen.tick()
     with pytest.raises(InfeasibleError, match="running"):
         gen.replan([0.0, 0.0], [0.0, 0.0])
@@ -311,7 +309,7 @@ def test_a_large_disturbance_is_absorbed_by_the_footholds_and_reported():
     sc = _small_scenario(
         dt=0.001, limits={"max_speed": [1.5, 0.4], "max_stride": 0.4, "max_accel_per_step": [0.3, 0.1]}
     )
-    gen = OnlineGenerator(sc)
+    gen = VhipGenerator(sc)
     gen.command(0.3, 0.0)
     for _ in range(6):
         gen.step()

@@ -9,7 +9,7 @@ lateral gait from a dense solve of eq. (13) (numpy LU of the tridiagonal matrix 
 import numpy as np
 
 import gaitshift
-from gaitshift.planners.online.horizons import VhipHorizons
+from gaitshift.planners.vhip.horizons import VhipHorizons
 from gaitshift.trajectory.contract import LEFT, RIGHT
 
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from gaitshift.planners.online.samples import Samples
+from gaitshift.planners.vhip.samples import Samples
 
 
 def _block(t0, m):

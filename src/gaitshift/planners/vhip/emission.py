@@ -17,9 +17,9 @@ from __future__ import annotations
 import numpy as np
 
 from gaitshift.models.arrays import BoolArray, FloatArray, Int8Array
-from gaitshift.planners.online.buffer import SampleBuffer
-from gaitshift.planners.online.samples import Samples
-from gaitshift.planners.online.swings import FootTracks
+from gaitshift.planners.vhip.buffer import SampleBuffer
+from gaitshift.planners.vhip.samples import Samples
+from gaitshift.planners.vhip.swings import FootTracks
 from gaitshift.trajectory.contract import DS, FLIGHT, LEFT, RIGHT, SS
 
 __all__ = ["PLAN_FIELDS", "contact_of", "emit_samples", "hold_at_rest", "plan_buffer", "write_segment"]

@@ -21,7 +21,7 @@ from gaitshift.cli.app import app, number, out_file
 from gaitshift.cli.keys import KeyReader
 from gaitshift.cli.web import web_port_option
 from gaitshift.errors import InfeasibleError, InputError
-from gaitshift.planners.online.generator import OnlineGenerator
+from gaitshift.planners.vhip.generator import VhipGenerator
 from gaitshift.scenario import load_scenario
 from gaitshift.scenario.commands import KEYS, parse_script
 from gaitshift.trajectory.formats import SUFFIXES
@@ -42,7 +42,7 @@ def read_stdin_script() -> str:
         raise InputError("stdin", f"byte {exc.start} is not UTF-8", "UTF-8 text of key tokens") from None
 
 
-def _status(gen: OnlineGenerator) -> str:
+def _status(gen: VhipGenerator) -> str:
     c, v = gen.command_velocity, gen.planned_velocity
     return (
         f"t={gen.t:7.3f} s  steps={gen.step_count:4d}  command=({c[0]:+.2f}, {c[1]:+.2f})  "
@@ -50,7 +50,7 @@ def _status(gen: OnlineGenerator) -> str:
     )
 
 
-def _apply(gen: OnlineGenerator, action: str) -> bool:
+def _apply(gen: VhipGenerator, action: str) -> bool:
     """Apply one key action; True when the user asked to quit."""
     if action in KEYS:
         dvx, dvy = KEYS[action]
@@ -61,7 +61,7 @@ def _apply(gen: OnlineGenerator, action: str) -> bool:
     return action == "quit"
 
 
-def _finish(gen: OnlineGenerator) -> None:
+def _finish(gen: VhipGenerator) -> None:
     """Request the stop and run until at rest (the ramp-down and State Switching 3 take a few s)."""
     gen.stop()
     limit = gen.t + 120.0
@@ -71,7 +71,7 @@ def _finish(gen: OnlineGenerator) -> None:
         gen.step()
 
 
-def _run_script(gen: OnlineGenerator, actions: list[tuple[str, float]], max_time: float) -> None:
+def _run_script(gen: VhipGenerator, actions: list[tuple[str, float]], max_time: float) -> None:
     gen.tick()  # plan the start with the initial command
     for action, sec in actions:
         if action == "wait":
@@ -84,7 +84,7 @@ def _run_script(gen: OnlineGenerator, actions: list[tuple[str, float]], max_time
     _finish(gen)
 
 
-def _run_keyboard(gen: OnlineGenerator, max_time: float) -> None:  # pragma: no cover - needs a TTY
+def _run_keyboard(gen: VhipGenerator, max_time: float) -> None:  # pragma: no cover - needs a TTY
     typer.echo("arrows: speed +/-0.3 m/s (up/down forward, left/right lateral), space: stop, q: quit")
     t0 = time.monotonic()
     with KeyReader() as keys:
@@ -141,7 +141,7 @@ def teleop_cmd(
     sc = load_scenario(scenario)
     if sc.planner != "vhip":
         raise InputError("scenario", scenario, "a vhip scenario (planner: vhip)")
-    gen = OnlineGenerator(sc)
+    gen = VhipGenerator(sc)
     if actions is not None:
         _run_script(gen, actions, max_time)
     else:  # pragma: no cover - needs a TTY

@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 
 import gaitshift
-from gaitshift.control.online_driver import OnlineReplanner
+from gaitshift.control.vhip_driver import VhipDriver
 
 
 @pytest.fixture
 def driver():
-    return OnlineReplanner(gaitshift.load_scenario("g1-online-variable-speed"))
+    return VhipDriver(gaitshift.load_scenario("g1-online-variable-speed"))
 
 
 def _first_replan(rp, displacement=(0.0, 0.0, 0.0)):
