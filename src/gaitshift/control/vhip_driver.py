@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from gaitshift.planners.streaming.script import CommandScript
 from gaitshift.planners.vhip.generator import VhipGenerator
-from gaitshift.planners.vhip.script import CommandScript
 from gaitshift.trajectory.contract import Trajectory
 
 

@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from gaitshift.models.arrays import BoolArray, FloatArray, Int8Array
-from gaitshift.planners.vhip.buffer import SampleBuffer
-from gaitshift.planners.vhip.samples import Samples
+from gaitshift.planners.streaming.buffer import SampleBuffer
+from gaitshift.planners.streaming.samples import Samples
 from gaitshift.planners.vhip.swings import FootTracks
 from gaitshift.trajectory.contract import DS, FLIGHT, LEFT, RIGHT, SS
 
@@ -122,15 +122,14 @@ def emit_samples(
     foot_pos = np.empty((m, 2, 3))
     foot_pos[:, LEFT] = feet.positions(LEFT, idx)
     foot_pos[:, RIGHT] = feet.positions(RIGHT, idx)
-    return Samples(
-        t=t,
-        com_pos=pos,
-        com_vel=vel,
-        com_acc=acc,
-        zmp=zmp,
-        phase=phase,
-        contact=buf["contact"][sl].copy(),
-        foot_pos=foot_pos,
-        command=np.broadcast_to(command, (m, 2)).copy(),
-        stiffness=stiff,
-    )
+    cols = {
+        "com_pos": pos,
+        "com_vel": vel,
+        "com_acc": acc,
+        "zmp": zmp,
+        "phase": phase,
+        "contact": buf["contact"][sl].copy(),
+        "foot_pos": foot_pos,
+        "stiffness": stiff,
+    }
+    return Samples(t, cols, np.broadcast_to(command, (m, 2)).copy())

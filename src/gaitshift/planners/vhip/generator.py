@@ -19,8 +19,8 @@ Switching 3) are planned by the segmented ZMP optimisation (:mod:`.transitions`,
 
 The pieces: the fixed horizons (:mod:`.horizons`), the step planner that writes the plan
 (:mod:`.steps`, with the command limits of :mod:`.limits` and the swing feet of :mod:`.swings`), the
-plan buffer and the emitted samples (:mod:`.emission`, :mod:`.buffer`, :mod:`.samples`), events
-(:mod:`.events`) and scripted commands (:mod:`.script`). Lateral take-off
+plan buffer and the emitted samples (:mod:`.emission`; the buffer, samples, events, scripted commands
+and the emission loop are shared with the locomotion generator: :mod:`gaitshift.planners.streaming`). Lateral take-off
 speeds are the command plus the periodic oscillation ``-/+ u`` (stance on the left/right foot) whose
 footholds are exactly ``step_width`` apart.
 """
@@ -34,22 +34,22 @@ import numpy as np
 from gaitshift.errors import InfeasibleError, InputError
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.vhip import FORCE_EPS
-from gaitshift.planners.vhip.clock import SampleClock
+from gaitshift.planners.streaming.events import Event, Takeoff
+from gaitshift.planners.streaming.generator import StreamingGenerator
+from gaitshift.planners.streaming.samples import Samples
+from gaitshift.planners.streaming.script import Command, CommandScript
 from gaitshift.planners.vhip.emission import emit_samples, hold_at_rest
-from gaitshift.planners.vhip.events import Event, Takeoff
 from gaitshift.planners.vhip.horizons import VhipHorizons
 from gaitshift.planners.vhip.limits import speed_limit
-from gaitshift.planners.vhip.samples import Samples
-from gaitshift.planners.vhip.script import Command, CommandScript
 from gaitshift.planners.vhip.steps import AXES, StepPlanner
 from gaitshift.planners.vhip.switching import SwitchingSolution
 from gaitshift.scenario.vhip import VhipScenario
 from gaitshift.trajectory.contract import RUN, STAND, Trajectory, standing_samples
 
-__all__ = ["Event", "Samples", "Takeoff", "VhipGenerator", "plan_scenario", "run_commands"]
+__all__ = ["VhipGenerator", "plan_scenario", "run_commands"]
 
 
-class VhipGenerator(SampleClock):
+class VhipGenerator(StreamingGenerator):
     """Stateful running generator for a :class:`~gaitshift.scenario.vhip.VhipScenario` (see module doc)."""
 
     def __init__(self, scenario: VhipScenario, keep_history: bool = True):
@@ -133,9 +133,6 @@ class VhipGenerator(SampleClock):
         plan's look-ahead), a copy."""
         out: FloatArray = self._plan.buf["c"][index].copy()
         return out
-
-    def _event(self, kind: str, fld: str, requested: float, applied: float, note: str = "") -> None:
-        self.events.append(Event.at(self.t, kind, fld, requested, applied, note))
 
     # ----------------------------------------------------------------- inputs
     def command(self, vx: float, vy: float = 0.0) -> FloatArray:
@@ -230,39 +227,26 @@ class VhipGenerator(SampleClock):
         self._event("replan", "com", offset, shift, note)
 
     # ----------------------------------------------------------------- emission
+    def _block(self, n: int) -> int:
+        """Plan the start or the next step when due; the samples (1..n) up to the next planning instant."""
+        if self._state == "standing":
+            self._plan_start()
+        if self._next_plan is not None and self._i == self._next_plan:
+            self._plan_next()
+        if self._next_plan is not None and self._next_plan > self._i:
+            return min(n, self._next_plan - self._i)
+        return n
+
     def _emit(self, m: int) -> Samples:
-        plan = self._plan
+        """Samples ``i .. i+m-1`` of the plan (``i`` the next sample); releases the buffer and feet behind them."""
+        plan, end = self._plan, self._i + m
         if plan.end is not None:
-            hold_at_rest(plan.buf, self._i + m, plan.rest_zmp)
+            hold_at_rest(plan.buf, end, plan.rest_zmp)
         out = emit_samples(plan.buf, plan.feet, self._i, m, self.dt, self.g, self._cmd, FORCE_EPS)
-        self._i += m
-        plan.buf.release(self._i - 1)
+        plan.buf.release(end - 1)
         self._last_vel = out.com_vel[-1].copy()
-        if self.keep_history:
-            self._blocks.append(out)
-        plan.feet.prune(self._i)
+        plan.feet.prune(end)
         return out
-
-    def advance(self, n: int) -> Samples:
-        """Advance ``n`` control ticks; returns their samples (planning happens on the way)."""
-        if n < 1:
-            raise InputError("ticks", n, "an integer >= 1")
-        blocks = []
-        while n > 0:
-            if self._state == "standing":
-                self._plan_start()
-            if self._next_plan is not None and self._i == self._next_plan:
-                self._plan_next()
-            limit = n
-            if self._next_plan is not None and self._next_plan > self._i:
-                limit = min(n, self._next_plan - self._i)
-            blocks.append(self._emit(limit))
-            n -= limit
-        return blocks[0] if len(blocks) == 1 else Samples.concat(blocks)
-
-    def tick(self) -> Samples:
-        """Advance one control period (dt); returns that one sample."""
-        return self.advance(1)
 
     def step(self) -> Samples:
         """Advance to the next planning instant (one running step; the whole stop once stopping)."""
@@ -278,11 +262,7 @@ class VhipGenerator(SampleClock):
     # ----------------------------------------------------------------- output
     def trajectory(self) -> Trajectory:
         """Everything emitted so far as the standard :class:`~gaitshift.Trajectory` contract."""
-        if not self.keep_history:
-            raise InputError("keep_history", False, "True to collect the trajectory")
-        if not self._blocks:
-            raise InputError("trajectory", "empty", "at least one emitted sample")
-        s = Samples.concat(self._blocks)
+        s = self.emitted()
         footholds = self._plan.footholds
         fs = np.array([[p[0], p[1], 0.0, 0.0] for p, _ in footholds])
         side = np.array([sd for _, sd in footholds], dtype=np.int8)

@@ -20,8 +20,8 @@ import numpy as np
 
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.vhip import row_weights
+from gaitshift.planners.streaming.events import Event, Takeoff
 from gaitshift.planners.vhip.emission import contact_of, plan_buffer, write_segment
-from gaitshift.planners.vhip.events import Event, Takeoff
 from gaitshift.planners.vhip.foothold import FootholdResult, target_foothold
 from gaitshift.planners.vhip.horizons import VhipHorizons
 from gaitshift.planners.vhip.limits import clamp_by_strides, clip_change, stride_window

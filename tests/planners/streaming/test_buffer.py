@@ -6,7 +6,7 @@ Oracle: a plain Python dict from sample index to value, written alongside.
 
 import numpy as np
 
-from gaitshift.planners.vhip.buffer import SampleBuffer
+from gaitshift.planners.streaming.buffer import SampleBuffer
 
 
 def test_global_indices_survive_sliding_and_growing():

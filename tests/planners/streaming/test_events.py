@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 
-from gaitshift.planners.vhip.events import Event
+from gaitshift.planners.streaming.events import Event
 
 
 def test_events_are_plain_json():

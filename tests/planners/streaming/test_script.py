@@ -11,8 +11,8 @@ import pytest
 
 import gaitshift
 from gaitshift.errors import InfeasibleError
+from gaitshift.planners.streaming.script import CommandScript
 from gaitshift.planners.vhip.generator import VhipGenerator
-from gaitshift.planners.vhip.script import CommandScript
 
 
 class Recorder:

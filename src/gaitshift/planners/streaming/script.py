@@ -1,7 +1,8 @@
 """A scripted speed profile for a streaming generator: timed (vx, vy) commands and a stop request.
 
 :class:`CommandScript` drives any generator with the streaming interface of :class:`Streaming`
-(:class:`~gaitshift.planners.vhip.generator.VhipGenerator` and the unified generator to come):
+(:class:`~gaitshift.planners.vhip.generator.VhipGenerator` and
+:class:`~gaitshift.planners.locomotion.generator.LocomotionGenerator`):
 it applies each command at the first control tick at or after its time, requests the stop at the
 first tick at or after ``stop_at``, and tells the driver when the next scripted event is due, so a
 driver can advance in whole blocks between events instead of tick by tick. Typical uses::
