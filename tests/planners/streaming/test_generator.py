@@ -1,6 +1,7 @@
 """The shared emission loop: ``advance`` stops at every planning instant the generator reports, emits
 the samples in order, keeps them for the history only with ``keep_history``, and ``tick`` is one
-sample; events are stamped with the time of the next sample."""
+sample; ``finished`` follows the ``stopped`` state; events are stamped with the time of the next
+sample."""
 
 import numpy as np
 import pytest
@@ -14,9 +15,12 @@ class _Toy(StreamingGenerator):
     """Plans every ``period`` samples; the column ``x`` is the sample index."""
 
     def __init__(self, period: int, keep_history: bool = True):
-        self.dt, self.period, self.keep_history = 0.01, period, keep_history
-        self._i, self._next_plan = 0, 0
-        self.events, self._blocks, self.plans = [], [], []
+        super().__init__(0.01, keep_history)
+        self.period, self._next_plan, self.plans = period, 0, []
+
+    @property
+    def state(self):
+        return "stopped" if self._i >= 20 else "running"
 
     def _block(self, n):
         if self._i == self._next_plan:
@@ -41,13 +45,14 @@ def test_advance_plans_at_each_instant_and_emits_in_order():
     np.testing.assert_array_equal(out.x, np.arange(10.0))
     np.testing.assert_allclose(out.t, np.arange(10) * 0.01)
     assert gen.plans == [0, 4, 8] and gen.tick_index == 10 and gen.next_plan_index == 12
-    assert len(gen.tick()) == 1
+    assert len(gen.tick()) == 1 and not gen.finished
     np.testing.assert_array_equal(gen.emitted().x, np.arange(11.0))
 
 
 def test_without_history_nothing_is_kept_and_bad_tick_counts_are_refused():
     gen = _Toy(period=3, keep_history=False)
-    gen.advance(7)
+    gen.advance(20)
+    assert gen.finished
     with pytest.raises(InputError):
         gen.emitted()
     with pytest.raises(InputError):

@@ -47,7 +47,6 @@ from gaitshift.planners.locomotion.record import StepRecord, phase_samples
 from gaitshift.planners.locomotion.samples import locomotion_meta, trajectory_from
 from gaitshift.planners.locomotion.steps import SUCCESSOR, Gait, StepType, build_step_types
 from gaitshift.planners.locomotion.writer import StepWriter
-from gaitshift.planners.streaming.events import Event
 from gaitshift.planners.streaming.generator import StreamingGenerator
 from gaitshift.planners.streaming.samples import Samples
 from gaitshift.trajectory.contract import LEFT, RIGHT, Trajectory
@@ -67,23 +66,19 @@ class LocomotionGenerator(StreamingGenerator):
 
     def __init__(self, params: LocomotionParams, keep_history: bool = True) -> None:
         p = params
-        self.p, self.dt, self.g = p, p.dt, p.gravity
+        super().__init__(p.dt, keep_history)
+        self.p, self.g = p, p.gravity
         tm = p.timing
         self.stiffness = solve_stiffness(p.height, tm.run_single, tm.double, tm.flight, p.gravity)
         self.types: dict[str, StepType] = build_step_types(self.stiffness, tm, p.height, p.gravity)
         self.orbits = {n: Orbit.of(st) for n, st in self.types.items() if st.steady}
-        self.events: list[Event] = []
         self.policy = TargetPolicy(p, self.types, self.orbits, self._event)
         self.writer = StepWriter(p.dt, p.gravity, p.height, p.step_width, p.swing_height)
-        self.keep_history = keep_history
-        self._i = 0
         self._rec: StepRecord | None = None
         self._next_type: str | None = None
-        self._next_plan: int | None = None
         self._finished = False
         self._psi_stand = 0.0  # heading while standing
         self._steps = 0
-        self._blocks: list[Samples] = []
 
     # ------------------------------------------------------------------ state
     @property
@@ -100,11 +95,6 @@ class LocomotionGenerator(StreamingGenerator):
         if is_start(self._rec.step):
             return "starting"
         return "running" if self._rec.step.gait == 2 else "walking"
-
-    @property
-    def finished(self) -> bool:
-        """True once the stop is complete and the robot stands at rest."""
-        return self.state == "stopped"
 
     @property
     def command_velocity(self) -> FloatArray:

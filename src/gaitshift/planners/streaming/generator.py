@@ -29,9 +29,24 @@ class StreamingGenerator(SampleClock, ABC):
         events: what the generator changed or refused, in time order.
     """
 
-    keep_history: bool
-    events: list[Event]
-    _blocks: list[Samples]
+    def __init__(self, dt: float, keep_history: bool) -> None:
+        """A generator at its first sample, none planned yet; ``dt`` the sample step, s."""
+        self.dt = dt
+        self.keep_history = keep_history
+        self.events: list[Event] = []
+        self._i = 0
+        self._next_plan: int | None = None
+        self._blocks: list[Samples] = []
+
+    @property
+    @abstractmethod
+    def state(self) -> str:
+        """The generator's state; ``stopped`` once at rest after the stop."""
+
+    @property
+    def finished(self) -> bool:
+        """True once the stop is complete and the robot stands at rest."""
+        return self.state == "stopped"
 
     @abstractmethod
     def _block(self, n: int) -> int:

@@ -34,7 +34,7 @@ import numpy as np
 from gaitshift.errors import InfeasibleError, InputError
 from gaitshift.models.arrays import FloatArray
 from gaitshift.models.vhip import FORCE_EPS
-from gaitshift.planners.streaming.events import Event, Takeoff
+from gaitshift.planners.streaming.events import Takeoff
 from gaitshift.planners.streaming.generator import StreamingGenerator
 from gaitshift.planners.streaming.samples import Samples
 from gaitshift.planners.streaming.script import Command, CommandScript
@@ -56,25 +56,21 @@ class VhipGenerator(StreamingGenerator):
         """``keep_history=False`` drops emitted samples (a controller that only needs each tick):
         memory then stays bounded, and :meth:`trajectory` is unavailable."""
         sc = scenario
-        self.keep_history = keep_history
         self.sc = sc
         self._h = h = VhipHorizons.from_scenario(sc)
-        self.dt, self.g = h.dt, h.g
+        super().__init__(h.dt, keep_history)
+        self.g = h.g
         self.n_step, self.n_sup, self.n_fly = h.n_step, h.n_sup, h.n_fly
         self.n_start, self.n_stop = h.n_start, h.n_stop
         self.vertical = h.vertical
         self.width = h.width
         #: take-off lateral velocity after a left stance for footholds exactly step_width apart
         self.u_left = h.u_left
-        self.events: list[Event] = []
         self._plan = StepPlanner(sc, h, self.events)
         self.first = self._plan.first
-        self._i = 0  # next sample to emit
-        self._next_plan: int | None = None
         self._state = "standing"
         self._cmd = np.zeros(2)
         self._stop_requested = False
-        self._blocks: list[Samples] = []
         self._last_vel = np.zeros(3)
 
     # ----------------------------------------------------------------- public state
@@ -87,11 +83,6 @@ class VhipGenerator(StreamingGenerator):
         if self._state == "starting" and self.takeoffs and self._i > self.takeoffs[0].index:
             return "running"
         return self._state
-
-    @property
-    def finished(self) -> bool:
-        """True once the last sample of the stop (at rest) has been emitted."""
-        return self.state == "stopped"
 
     @property
     def takeoffs(self) -> list[Takeoff]:
