@@ -20,10 +20,9 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import numpy.typing as npt
 
 from gaitshift.common.rotations import rot2
-from gaitshift.models.arrays import FloatArray
+from gaitshift.models.arrays import FloatArray, Int8Array
 from gaitshift.planners.locomotion.affine import Affine
 from gaitshift.planners.locomotion.horizon import HorizonStep, Row, Unknowns, rollout, solve
 from gaitshift.planners.locomotion.orbit import Orbit
@@ -128,7 +127,7 @@ class Plan:
 
     footholds: FloatArray
     yaws: FloatArray
-    sides: npt.NDArray[np.int8]
+    sides: Int8Array
     knots: dict[int, FloatArray]
     exact: bool
     types: tuple[StepType, ...]
