@@ -1,5 +1,5 @@
 """Helpers of the locomotion tests: G1-sized plans from command scripts, and the stride-mean velocity
-computed independently from the file arrays (docs/online.md, "Speed semantics")."""
+computed independently from the file arrays (docs/locomotion.md, "Speed semantics")."""
 
 from __future__ import annotations
 

@@ -17,7 +17,7 @@ import pytest
 
 import gaitshift
 from gaitshift.control.feedback import CaptureSettings
-from gaitshift.control.online_driver import OnlineReplanner
+from gaitshift.control.vhip_driver import VhipDriver
 from gaitshift.robots import load_robot
 from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.plant import build_plant
@@ -146,7 +146,7 @@ def test_measured_flight_is_ballistic(short_wrw):
 
 def test_online_variable_speed_follows_commands_within_0p1_m_s():
     sc = gaitshift.load_scenario("g1-online-variable-speed")
-    rp = OnlineReplanner(sc)
+    rp = VhipDriver(sc)
     result = simulate(rp.trajectory, driver=rp)
     met = result.metrics
     assert not result.fell, met.get("fall_reason")

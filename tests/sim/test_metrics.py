@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import gaitshift
-from gaitshift.control.online_driver import OnlineReplanner
+from gaitshift.control.vhip_driver import VhipDriver
 from gaitshift.sim.metrics import format_metrics, step_labels, summarize
 from gaitshift.sim.result import SimResult
 
@@ -123,7 +123,7 @@ def test_a_run_that_ends_early_completes_only_the_touchdowns_before_its_end(run_
 
 
 def test_speed_error_is_the_measured_minus_commanded_speed_two_steps_after_each_command():
-    traj = OnlineReplanner(gaitshift.load_scenario("g1-online-variable-speed")).trajectory
+    traj = VhipDriver(gaitshift.load_scenario("g1-online-variable-speed")).trajectory
     result = replay(traj)
     result.arrays["com_vel"][:, 0] += 0.05
     met = summarize(result, traj, LIMIT)

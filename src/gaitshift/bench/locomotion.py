@@ -11,7 +11,7 @@ import numpy as np
 from gaitshift.bench import Result, benchmark, timed
 from gaitshift.planners.locomotion.generator import LocomotionGenerator
 from gaitshift.planners.locomotion.params import params_from_scenario
-from gaitshift.planners.online.generator import OnlineGenerator
+from gaitshift.planners.vhip.generator import VhipGenerator
 from gaitshift.scenario.facts import RobotFacts
 from gaitshift.scenario.loader import load_scenario
 
@@ -19,13 +19,13 @@ from gaitshift.scenario.loader import load_scenario
 G1 = RobotFacts("g1", 33.34, 0.6333, 0.6922, (0.18, 0.07), 0.237)
 
 
-def _generators(dt: float, vx: float, yaw_rate: float) -> tuple[LocomotionGenerator, OnlineGenerator]:
+def _generators(dt: float, vx: float, yaw_rate: float) -> tuple[LocomotionGenerator, VhipGenerator]:
     sc = load_scenario({"planner": "locomotion", "dt": dt})
     gen = LocomotionGenerator(params_from_scenario(sc, G1))
     gen.command(vx, 0.0, yaw_rate)
     for _ in range(12):
         gen.step()
-    vh = OnlineGenerator(load_scenario("paper003-variable-speed").model_copy(update={"dt": dt}))
+    vh = VhipGenerator(load_scenario("paper003-variable-speed").model_copy(update={"dt": dt}))
     vh.command(0.9, 0.1)
     for _ in range(8):
         vh.step()
@@ -47,7 +47,7 @@ def _row(operation: str, dt: float, times: np.ndarray, baseline: str, base: Resu
     )
 
 
-def _planning_row(gen: LocomotionGenerator, vh: OnlineGenerator, reps: int, label: str) -> Result:
+def _planning_row(gen: LocomotionGenerator, vh: VhipGenerator, reps: int, label: str) -> Result:
     """Planning alone (:meth:`LocomotionGenerator.plan_due` at each step start: the horizon solve, the
     footholds, the swings and the step's end state; its rows are written lazily by the ticks that
     emit them), against the VHIP generator's whole online step in the same run."""

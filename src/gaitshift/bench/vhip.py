@@ -22,21 +22,21 @@ from gaitshift.models.tridiagonal import (
     thomas,
     tridiagonal_system,
 )
-from gaitshift.planners.online.foothold import target_foothold
-from gaitshift.planners.online.generator import OnlineGenerator
-from gaitshift.planners.online.switching import SwitchingProblem, SwitchingSolver, stop_problem
-from gaitshift.planners.online.switching_ipopt import solve_switching_ipopt
+from gaitshift.planners.vhip.foothold import target_foothold
+from gaitshift.planners.vhip.generator import VhipGenerator
+from gaitshift.planners.vhip.switching import SwitchingProblem, SwitchingSolver, stop_problem
+from gaitshift.planners.vhip.switching_ipopt import solve_switching_ipopt
 from gaitshift.scenario import load_scenario
 from gaitshift.scenario.vhip import VhipScenario
 
 SCENARIO = "paper003-variable-speed"
 
 
-def _generator(dt: float | None = None) -> OnlineGenerator:
+def _generator(dt: float | None = None) -> VhipGenerator:
     sc: VhipScenario = load_scenario(SCENARIO)
     if dt is not None:
         sc = sc.model_copy(update={"dt": dt})
-    return OnlineGenerator(sc)
+    return VhipGenerator(sc)
 
 
 def _solver_rows(label: str, w: np.ndarray, dt: float, reps: int, rhs: np.ndarray) -> list[Result]:
@@ -124,7 +124,7 @@ def bench_foothold(quick: bool) -> list[Result]:
     return [_foothold_row(dt, reps) for dt in (0.004, 0.001)]
 
 
-def _switching_problems(gen: OnlineGenerator) -> tuple[SwitchingProblem, SwitchingProblem]:
+def _switching_problems(gen: VhipGenerator) -> tuple[SwitchingProblem, SwitchingProblem]:
     """A start to (0.3, u) m/s and a stop from (0, u) m/s on the horizons of ``gen``."""
     h, dt, width = gen.horizons, gen.dt, gen.width
     half = h.zmp_half

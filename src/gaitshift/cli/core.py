@@ -132,7 +132,7 @@ def _tvlip_meta(traj: Trajectory, source: str) -> None:
 #: planner of a trajectory -> (module with ``write_figures(traj, out)``, check of the meta it draws from)
 FIGURES: dict[str, tuple[str, Callable[[Trajectory, str], None] | None]] = {
     "tvlip": ("gaitshift.plots.tvlip", _tvlip_meta),
-    "vhip": ("gaitshift.plots.online", None),
+    "vhip": ("gaitshift.plots.vhip", None),
     "locomotion": ("gaitshift.plots.locomotion", None),
 }
 

@@ -34,9 +34,9 @@ class PlanDriver(Protocol):
 
 def _vhip(sc: Any, _facts: RobotFacts | None, _control_period: float) -> PlanDriver:
     """The VHIP generator's driver (its own sample step and robot-free scenario)."""
-    from gaitshift.control.online_driver import OnlineReplanner
+    from gaitshift.control.vhip_driver import VhipDriver
 
-    return OnlineReplanner(sc)
+    return VhipDriver(sc)
 
 
 def _locomotion(sc: Any, facts: RobotFacts | None, control_period: float) -> PlanDriver:

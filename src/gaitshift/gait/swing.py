@@ -21,14 +21,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
-from gaitshift.models.arrays import FloatArray, FloatLike
+from gaitshift.models.arrays import BoolArray, FloatArray, FloatLike, Int8Array
 from gaitshift.models.sextic import SEXTIC_INVERSE
 from gaitshift.models.terrain import Terrain
-
-BoolArray = npt.NDArray[np.bool_]
-IntArray = npt.NDArray[np.int8]
 
 #: grid of the swing window's delay and advance, fraction of the swing
 WINDOW_STEP = 0.025
@@ -127,7 +123,7 @@ class EdgeClearance:
         return float(g[i]), float(1.0 - g[j])
 
 
-def foot_yaws(contact: BoolArray, foot_pos: FloatArray, footsteps: FloatArray, side_of: IntArray) -> FloatArray:
+def foot_yaws(contact: BoolArray, foot_pos: FloatArray, footsteps: FloatArray, side_of: Int8Array) -> FloatArray:
     """Yaw of each sole over a plan, (N, 2) rad, from its contact flags (N, 2), sole centres (N, 2, 3)
     and footholds (M, 4) x, y, z, yaw with their sides (M,).
 

@@ -17,7 +17,7 @@ from gaitshift.trajectory.contract import Trajectory
 #: when it runs)
 PLANNERS: dict[str, str] = {
     "tvlip": "gaitshift.planners.tvlip.planner:plan_scenario",
-    "vhip": "gaitshift.planners.online.generator:plan_scenario",
+    "vhip": "gaitshift.planners.vhip.generator:plan_scenario",
     "locomotion": "gaitshift.planners.locomotion.plan:plan_scenario",
 }
 

@@ -1,4 +1,4 @@
-"""Figures. One module per topic: ``tvlip`` (paper 001), ``online`` (paper 003), ``slip``, ``sim``.
+"""Figures. One module per topic: ``tvlip`` (paper 001), ``vhip`` (paper 003), ``slip``, ``sim``.
 
 Only the CLI and these modules import matplotlib (with the ``Agg`` backend).
 """

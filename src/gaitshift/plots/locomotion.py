@@ -1,4 +1,4 @@
-"""Figures of a locomotion plan (docs/online.md).
+"""Figures of a locomotion plan (docs/locomotion.md).
 
 * ``speed.png``: the stride-mean speed (CoM displacement over two steps, heading frame) against the
   applied command, with the planned CoM speed, the yaw rate and the heading; standing, walking,

@@ -1,5 +1,5 @@
 """Schema of ``planner: locomotion`` scenarios: the online walk/run/turn/stop generator driven by a
-scripted command stream (docs/online.md).
+scripted command stream (docs/locomotion.md).
 
 Only ``planner``, ``gait``, ``switch``, ``commands`` and ``stop_at`` are needed; every other key has
 a default taken from the robot named by ``robot`` (its CoM height, leg length, soles and foot
@@ -57,7 +57,7 @@ class LocomotionTiming(_Strict):
 
 class Switch(_Strict):
     """Walk/run hysteresis thresholds, m/s: walk -> run above ``walk_to_run``, run -> walk below
-    ``run_to_walk`` (< walk_to_run). Defaults from the Froude number (docs/online.md)."""
+    ``run_to_walk`` (< walk_to_run). Defaults from the Froude number (docs/locomotion.md)."""
 
     walk_to_run: PosSpeed | None = None
     run_to_walk: PosSpeed | None = None
@@ -70,7 +70,7 @@ class Switch(_Strict):
 
 
 class LocomotionLimits(_Strict):
-    """Command and foothold limits (defaults scale with the robot, docs/online.md).
+    """Command and foothold limits (defaults scale with the robot, docs/locomotion.md).
 
     ``max_speed`` [forward, backward, lateral] m/s; ``max_yaw_rate`` rad/s; ``max_accel`` per step
     [vx m/s, vy m/s, yaw rate rad/s]; ``max_stride`` largest forward/backward foot displacement per

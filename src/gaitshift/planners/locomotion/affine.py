@@ -23,19 +23,18 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from gaitshift.models.arrays import FloatArray
 from gaitshift.trajectory.contract import FLIGHT
 
 __all__ = ["Affine", "phase_matrix", "propagate"]
-
-Array = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)
 class Affine:
     """A point or vector of the plane, ``const + J @ u``: const (2,), J (2, n)."""
 
-    const: Array
-    J: Array
+    const: FloatArray
+    J: FloatArray
 
     @staticmethod
     def constant(value: npt.ArrayLike, n: int) -> Affine:
@@ -63,13 +62,13 @@ class Affine:
         """``self + offset`` for a known offset (2,)."""
         return Affine(self.const + np.asarray(offset, dtype=np.float64), self.J.copy())
 
-    def value(self, u: Array) -> Array:
+    def value(self, u: FloatArray) -> FloatArray:
         """Evaluate for the unknowns ``u`` (n,). Returns (2,)."""
         return np.asarray(self.const + self.J @ u, dtype=np.float64)
 
 
 @functools.lru_cache(maxsize=4096)
-def phase_matrix(kind: int, stiffness: float, duration: float) -> Array:
+def phase_matrix(kind: int, stiffness: float, duration: float) -> FloatArray:
     """The (2, 4) matrix of eqs. (3)-(4) (support) or (5)-(6) (flight, horizontal part) mapping
     ``(x0, v0, c0, c1)`` to ``(x1, v1)`` over one phase (module docstring). Cached (read-only): the
     step types repeat the same few (stiffness, duration) pairs at every planning instant."""
@@ -78,7 +77,7 @@ def phase_matrix(kind: int, stiffness: float, duration: float) -> Array:
     return M
 
 
-def _phase_matrix(kind: int, stiffness: float, duration: float) -> Array:
+def _phase_matrix(kind: int, stiffness: float, duration: float) -> FloatArray:
     tau = duration
     if kind == FLIGHT:
         return np.array([[1.0, tau, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
@@ -93,7 +92,7 @@ def _phase_matrix(kind: int, stiffness: float, duration: float) -> Array:
     )
 
 
-def propagate(M: Array, x: Affine, v: Affine, c0: Affine | None, c1: Affine | None) -> tuple[Affine, Affine]:
+def propagate(M: FloatArray, x: Affine, v: Affine, c0: Affine | None, c1: Affine | None) -> tuple[Affine, Affine]:
     """Apply a phase matrix ``M`` (2, 4) to affine states; ``c0``/``c1`` None in flight."""
     terms = (x, v) if c0 is None or c1 is None else (x, v, c0, c1)
     k = len(terms)

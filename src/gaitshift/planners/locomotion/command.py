@@ -10,7 +10,7 @@ Gait selection (``auto``) uses the speed ``|v| = hypot(vx, vy)`` of the larger o
 command (:meth:`~gaitshift.planners.locomotion.policy.TargetPolicy.gait_speed`) with hysteresis: walking
 switches to running above ``walk_to_run`` (v_up) and running switches back below ``run_to_walk``
 (v_down < v_up). A command that hovers between the two keeps the current gait; one oscillating by
-less than v_up - v_down around a threshold switches at most once. docs/online.md derives the default
+less than v_up - v_down around a threshold switches at most once. docs/locomotion.md derives the default
 thresholds from the robot's leg length (Froude number).
 """
 
@@ -23,12 +23,12 @@ import numpy as np
 import numpy.typing as npt
 
 from gaitshift.errors import InputError
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.params import Limits
 from gaitshift.planners.locomotion.steps import Gait
 
 __all__ = ["Clamp", "clamp_command", "next_gait", "ramp"]
 
-Array = npt.NDArray[np.float64]
 NAMES = ("command.vx", "command.vy", "command.yaw_rate")
 
 
@@ -42,7 +42,7 @@ class Clamp:
     reason: str
 
 
-def clamp_command(cmd: npt.ArrayLike, limits: Limits, stride_speed: Array) -> tuple[Array, list[Clamp]]:
+def clamp_command(cmd: npt.ArrayLike, limits: Limits, stride_speed: FloatArray) -> tuple[FloatArray, list[Clamp]]:
     """Clamp (vx, vy, yaw_rate) to the limits; return the applied command (3,) and the clamps.
 
     ``stride_speed`` (3,) holds the largest |vx|, |vy| and |yaw rate| that the foothold limits allow
@@ -68,7 +68,7 @@ def clamp_command(cmd: npt.ArrayLike, limits: Limits, stride_speed: Array) -> tu
     return out, clamps
 
 
-def ramp(target: Array, command: Array, max_accel: npt.ArrayLike, lead_time: float) -> Array:
+def ramp(target: FloatArray, command: FloatArray, max_accel: npt.ArrayLike, lead_time: float) -> FloatArray:
     """Move ``target`` (3,) toward ``command`` (3,) by at most ``max_accel`` (3,) per component.
 
     A yaw-rate change ``d omega`` turns the heading of the planner's target state, ``lead_time`` s

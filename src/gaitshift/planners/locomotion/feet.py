@@ -17,22 +17,20 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import numpy.typing as npt
 
 from gaitshift.gait.swing import sextic_height_coefficients
+from gaitshift.models.arrays import FloatArray
 
 __all__ = ["FootTrack", "Swing"]
 
-Array = npt.NDArray[np.float64]
 
-
-def _quintic(q0: Array, v0: Array, a0: Array, q1: Array, L: float) -> Array:
+def _quintic(q0: FloatArray, v0: FloatArray, a0: FloatArray, q1: FloatArray, L: float) -> FloatArray:
     """Coefficients (6, k) in u of the quintic from (q0, v0, a0) (per second) to (q1, 0, 0) over L s."""
     D, V, A = q1 - q0, v0 * L, a0 * L * L
     return np.array([q0, V, 0.5 * A, 10 * D - 6 * V - 1.5 * A, -15 * D + 8 * V + 1.5 * A, 6 * D - 3 * V - 0.5 * A])
 
 
-def _powers(u: Array, degree: int) -> Array:
+def _powers(u: FloatArray, degree: int) -> FloatArray:
     """Rows [1, u, ..., u^degree] (n, degree + 1) by repeated products (cheaper than ``np.vander``)."""
     out = np.empty((len(u), degree + 1))
     out[:, 0] = 1.0
@@ -48,7 +46,7 @@ _H_COLS = np.array([0, 1, 3, 4, 5, 7, 8, 9, 11])
 _Z_COLS = np.array([2, 6, 10])
 
 
-def _stacked(coef: Array, L: float) -> Array:
+def _stacked(coef: FloatArray, L: float) -> FloatArray:
     """(d+1, 3k) matrix whose product with the Vandermonde rows [1, u, ..., u^d] gives the values, the
     time derivatives (1/L d/du) and the second time derivatives (1/L^2 d2/du2) of the polynomials
     ``coef`` (d+1, k) in normalised time u = t / L, side by side."""
@@ -68,16 +66,16 @@ class Swing:
 
     i_lift: int
     i_land: int
-    start: Array
-    end: Array
+    start: FloatArray
+    end: FloatArray
     dt: float
     clearance: float
     i_ref: int = 0
-    coef: Array = field(default_factory=lambda: np.zeros((6, 3)))
-    zcoef: Array = field(default_factory=lambda: np.zeros(7))
+    coef: FloatArray = field(default_factory=lambda: np.zeros((6, 3)))
+    zcoef: FloatArray = field(default_factory=lambda: np.zeros(7))
     _key: tuple[int, int] = (-1, -1)
-    _hs: Array = field(default_factory=lambda: np.zeros((6, 12)))
-    _zs: Array = field(default_factory=lambda: np.zeros((7, 12)))
+    _hs: FloatArray = field(default_factory=lambda: np.zeros((6, 12)))
+    _zs: FloatArray = field(default_factory=lambda: np.zeros((7, 12)))
 
     def __post_init__(self) -> None:
         self.i_ref = self.i_lift
@@ -87,7 +85,7 @@ class Swing:
         apex = max(self.start[2], self.end[2]) + self.clearance
         self.zcoef = sextic_height_coefficients(np.array(self.start[2]), np.array(self.end[2]), np.array(apex))
 
-    def retarget(self, i: int, end: Array) -> None:
+    def retarget(self, i: int, end: FloatArray) -> None:
         """Aim at ``end`` (x, y, z, yaw) from sample ``i`` on, keeping position, velocity and
         acceleration at ``i``. The height profile keeps its lift-off and touchdown heights."""
         if i >= self.i_land:
@@ -100,7 +98,7 @@ class Swing:
         self._key = (-1, -1)
         self.end = np.array(end, dtype=np.float64)
 
-    def evaluate(self, idx: Array) -> tuple[Array, Array, Array]:
+    def evaluate(self, idx: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(x, y, z, yaw), their rates and accelerations at sample indices ``idx`` (n,): (n, 4) each."""
         idx = np.asarray(idx, dtype=np.float64)
         Lh = (self.i_land - self.i_ref) * self.dt
@@ -126,7 +124,7 @@ class Swing:
 class FootTrack:
     """One foot over time: where it rests (x, y, z, yaw) and its swings (past ones pruned)."""
 
-    rest: Array
+    rest: FloatArray
     swings: list[Swing] = field(default_factory=list)
 
     def active(self, i: int) -> Swing | None:
@@ -143,7 +141,7 @@ class FootTrack:
                 return sw
         return None
 
-    def landed(self, i: int) -> Array:
+    def landed(self, i: int) -> FloatArray:
         """The resting pose (x, y, z, yaw) at sample ``i``: the end of the last swing touched down by
         then, or the rest pose (valid when no swing is in the air at ``i``)."""
         pose = self.rest
@@ -153,7 +151,9 @@ class FootTrack:
             pose = sw.end
         return pose
 
-    def evaluate(self, a: int, b: int, out: tuple[Array, Array, Array] | None = None) -> tuple[Array, Array, Array]:
+    def evaluate(
+        self, a: int, b: int, out: tuple[FloatArray, FloatArray, FloatArray] | None = None
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Pose (x, y, z, yaw), rates and accelerations at samples a..b-1: (b-a, 4) each (written into
         ``out`` if given)."""
         n = b - a

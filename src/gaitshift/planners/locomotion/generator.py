@@ -1,6 +1,6 @@
 """The locomotion generator: a live (vx, vy, yaw rate) command in, exact CoM/ZMP/feet samples out.
 
-Streaming API (the same shape as :class:`gaitshift.planners.online.generator.OnlineGenerator`):
+Streaming API (the same shape as :class:`gaitshift.planners.vhip.generator.VhipGenerator`):
 
 * :meth:`LocomotionGenerator.command` sets (vx, vy, yaw_rate), clamped to the limits (events);
 * :meth:`~LocomotionGenerator.tick` emits one sample, :meth:`~LocomotionGenerator.advance` n samples,
@@ -29,6 +29,7 @@ import numpy.typing as npt
 
 from gaitshift.common.rotations import mid_yaw, wrap_angle
 from gaitshift.errors import InfeasibleError, InputError
+from gaitshift.models.arrays import FloatArray
 from gaitshift.models.stiffness import stiffness as solve_stiffness
 from gaitshift.planners.locomotion.instants import within_step, within_step_unknowns
 from gaitshift.planners.locomotion.orbit import Orbit
@@ -43,19 +44,17 @@ from gaitshift.planners.locomotion.planner import (
 )
 from gaitshift.planners.locomotion.policy import TargetPolicy
 from gaitshift.planners.locomotion.record import StepRecord, phase_samples
-from gaitshift.planners.locomotion.samples import LocoSamples, concat, locomotion_meta, trajectory_from
+from gaitshift.planners.locomotion.samples import locomotion_meta, trajectory_from
 from gaitshift.planners.locomotion.steps import SUCCESSOR, Gait, StepType, build_step_types
 from gaitshift.planners.locomotion.writer import StepWriter
-from gaitshift.planners.online.clock import SampleClock
-from gaitshift.planners.online.events import Event
+from gaitshift.planners.streaming.generator import StreamingGenerator
+from gaitshift.planners.streaming.samples import Samples
 from gaitshift.trajectory.contract import LEFT, RIGHT, Trajectory
 
 __all__ = ["LocomotionGenerator"]
 
-Array = npt.NDArray[np.float64]
 
-
-class LocomotionGenerator(SampleClock):
+class LocomotionGenerator(StreamingGenerator):
     """Stateful walk/run/turn/stop generator (module docstring) for :class:`LocomotionParams`.
 
     Attributes:
@@ -67,23 +66,19 @@ class LocomotionGenerator(SampleClock):
 
     def __init__(self, params: LocomotionParams, keep_history: bool = True) -> None:
         p = params
-        self.p, self.dt, self.g = p, p.dt, p.gravity
+        super().__init__(p.dt, keep_history)
+        self.p, self.g = p, p.gravity
         tm = p.timing
         self.stiffness = solve_stiffness(p.height, tm.run_single, tm.double, tm.flight, p.gravity)
         self.types: dict[str, StepType] = build_step_types(self.stiffness, tm, p.height, p.gravity)
         self.orbits = {n: Orbit.of(st) for n, st in self.types.items() if st.steady}
-        self.events: list[Event] = []
         self.policy = TargetPolicy(p, self.types, self.orbits, self._event)
         self.writer = StepWriter(p.dt, p.gravity, p.height, p.step_width, p.swing_height)
-        self.keep_history = keep_history
-        self._i = 0
         self._rec: StepRecord | None = None
         self._next_type: str | None = None
-        self._next_plan: int | None = None
         self._finished = False
         self._psi_stand = 0.0  # heading while standing
         self._steps = 0
-        self._blocks: list[LocoSamples] = []
 
     # ------------------------------------------------------------------ state
     @property
@@ -102,17 +97,12 @@ class LocomotionGenerator(SampleClock):
         return "running" if self._rec.step.gait == 2 else "walking"
 
     @property
-    def finished(self) -> bool:
-        """True once the stop is complete and the robot stands at rest."""
-        return self.state == "stopped"
-
-    @property
-    def command_velocity(self) -> Array:
+    def command_velocity(self) -> FloatArray:
         """The applied command (vx, vy, yaw_rate) after the limits."""
         return self.policy.cmd.copy()
 
     @property
-    def target(self) -> Array:
+    def target(self) -> FloatArray:
         """The target (vx, vy, yaw_rate) of the last planning instant (the command ramped)."""
         return self.policy.target.copy()
 
@@ -126,11 +116,8 @@ class LocomotionGenerator(SampleClock):
         """The step being emitted (None while standing)."""
         return self._rec
 
-    def _event(self, kind: str, fld: str, requested: float, applied: float, note: str = "") -> None:
-        self.events.append(Event(round(self.t, 9), kind, fld, float(requested), float(applied), note))
-
     # ------------------------------------------------------------------ inputs
-    def command(self, vx: float, vy: float = 0.0, yaw_rate: float = 0.0) -> Array:
+    def command(self, vx: float, vy: float = 0.0, yaw_rate: float = 0.0) -> FloatArray:
         """Set the command (m/s in the heading frame, rad/s). Returns the applied (clamped) command.
 
         Raises:
@@ -171,7 +158,7 @@ class LocomotionGenerator(SampleClock):
         )
         return types if types[1].name == nxt else (types[0], self.types[nxt], *types[2:])
 
-    def _start_point(self) -> tuple[str, Array, float, int, Array | None, float]:
+    def _start_point(self) -> tuple[str, FloatArray, float, int, FloatArray | None, float]:
         """(type, own point, own yaw, own side, next foot if down, its yaw) of the step that starts now."""
         prev, feet = self._rec, self.writer.feet
         if prev is None:
@@ -231,7 +218,15 @@ class LocomotionGenerator(SampleClock):
         self._steps += 1
 
     def _commit(
-        self, this: StepType, plan: Plan, i: int, own: Array, own_side: int, psi: float, x0: Array, v0: Array
+        self,
+        this: StepType,
+        plan: Plan,
+        i: int,
+        own: FloatArray,
+        own_side: int,
+        psi: float,
+        x0: FloatArray,
+        v0: FloatArray,
     ) -> None:
         bounds = i + np.concatenate([[0], np.cumsum(phase_samples(this, self.dt))])
         rest = 0.5 * (np.asarray(own) + plan.footholds[0]) if this.name == "stop" else None
@@ -333,24 +328,9 @@ class LocomotionGenerator(SampleClock):
         self.writer.standing(i, i + n, self.heading_at(i), self._steps)
         return n
 
-    def advance(self, n: int) -> LocoSamples:
-        """Advance ``n`` samples (planning on the way) and return them."""
-        if n < 1:
-            raise InputError("ticks", n, "an integer >= 1")
-        blocks = []
-        while n > 0:
-            m = self._block(n)
-            out = self.writer.emit(self._i, m, self.policy.cmd)
-            self._i += m
-            if self.keep_history:
-                self._blocks.append(out)
-            blocks.append(out)
-            n -= m
-        return concat(blocks)
-
-    def tick(self) -> LocoSamples:
-        """Advance one sample."""
-        return self.advance(1)
+    def _emit(self, m: int) -> Samples:
+        """The next ``m`` samples from the writer's buffer, with the applied command."""
+        return self.writer.emit(self._i, m, self.policy.cmd)
 
     def plan_due(self) -> bool:
         """Plan the step that starts at the next sample, if one is due (a planning instant, or a
@@ -363,7 +343,7 @@ class LocomotionGenerator(SampleClock):
             return True
         return False
 
-    def step(self) -> LocoSamples:
+    def step(self) -> Samples:
         """Advance to the next planning instant (the rest of the stop once stopping; one walking
         single-support duration while standing or stopped)."""
         self.plan_due()
@@ -380,9 +360,6 @@ class LocomotionGenerator(SampleClock):
     # ------------------------------------------------------------------ output
     def trajectory(self) -> Trajectory:
         """Everything emitted so far as the standard trajectory contract (planner "locomotion")."""
-        if not self.keep_history:
-            raise InputError("keep_history", False, "True to collect the trajectory")
-        if not self._blocks:
-            raise InputError("trajectory", "empty", "at least one emitted sample")
+        s = self.emitted()
         meta = locomotion_meta(self.p, self.stiffness.as_dict(), [e.as_dict() for e in self.events])
-        return trajectory_from(self._blocks, self.writer.footsteps, self.writer.bounds, meta)
+        return trajectory_from(s, self.writer.footsteps, self.writer.bounds, meta)

@@ -23,14 +23,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import numpy.typing as npt
 
 from gaitshift.common.rotations import rot2, wrap_angle
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.params import LocomotionParams
 
 __all__ = ["Goal", "goto_command"]
 
-Array = npt.NDArray[np.float64]
 #: heading gain, 1/s
 K_PSI = 1.5
 #: beyond this many nominal strides the robot faces the goal while walking to it
@@ -45,13 +44,13 @@ LAG_STEPS = 2.0
 class Goal:
     """A goal pose: position (2,) m and yaw rad, world frame."""
 
-    xy: Array
+    xy: FloatArray
     yaw: float
 
 
 def goto_command(
-    goal: Goal, com: Array, heading: float, speed: float, params: LocomotionParams, step_time: float
-) -> tuple[Array, bool]:
+    goal: Goal, com: FloatArray, heading: float, speed: float, params: LocomotionParams, step_time: float
+) -> tuple[FloatArray, bool]:
     """The command (vx, vy, yaw_rate) toward ``goal`` from the CoM ``com`` (2,) and ``heading``, and
     whether the goal can be closed now (two steps left). ``speed`` is the current target speed, m/s;
     ``step_time`` the walking step duration, s."""

@@ -29,12 +29,12 @@ import numpy.typing as npt
 import qpsolvers
 from scipy.optimize import lsq_linear
 
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.affine import Affine, phase_matrix, propagate
 from gaitshift.planners.locomotion.steps import Anchor, PhaseSpec, StepType
 
 __all__ = ["EPS", "HorizonStep", "Row", "Solution", "Unknowns", "rollout", "solve"]
 
-Array = npt.NDArray[np.float64]
 #: weight of the pull to the nominal values when the target cannot be met exactly
 EPS = 1e-4
 
@@ -67,7 +67,7 @@ class Row:
     """A target condition ``expr = target`` (2 scalar rows) with a weight for the bounded fallback."""
 
     expr: Affine
-    target: Array
+    target: FloatArray
     weight: float
 
 
@@ -126,11 +126,13 @@ def rollout(steps: list[HorizonStep], x: Affine, v: Affine) -> list[tuple[Affine
 class Solution:
     """Values of the unknowns (n,) and whether the target was met exactly within the bounds."""
 
-    u: Array
+    u: FloatArray
     exact: bool
 
 
-def _bounded_qp(A: Array, b: Array, nominal: Array, w: Array, lo: Array, hi: Array) -> Array | None:
+def _bounded_qp(
+    A: FloatArray, b: FloatArray, nominal: FloatArray, w: FloatArray, lo: FloatArray, hi: FloatArray
+) -> FloatArray | None:
     """``min sum w (u - n)^2  s.t.  A u = b, lo <= u <= hi`` (daqp), or None when infeasible."""
     try:
         x = qpsolvers.solve_qp(np.diag(w), -w * nominal, A=A, b=b, lb=lo, ub=hi, solver="daqp")

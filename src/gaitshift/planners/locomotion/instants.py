@@ -3,19 +3,15 @@ a step, and a re-plan from a measured CoM state within a step."""
 
 from __future__ import annotations
 
-import numpy as np
-import numpy.typing as npt
-
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.planner import Instant, has_knot, is_start, touchdown_offset
 from gaitshift.planners.locomotion.record import StepRecord
 from gaitshift.planners.locomotion.steps import StepType
 
 __all__ = ["within_step", "within_step_unknowns"]
 
-Array = npt.NDArray[np.float64]
 
-
-def within_step_unknowns(rec: StepRecord, i: int, dt: float) -> tuple[Array | None, int]:
+def within_step_unknowns(rec: StepRecord, i: int, dt: float) -> tuple[FloatArray | None, int]:
     """At sample ``i`` of the step ``rec``: the next foot if it is already on the ground (a start, or
     after its touchdown), else None; and the number of unknowns of this step that come before the
     horizon's later steps (its knot, and its next foot while that is still in the air)."""
@@ -30,11 +26,11 @@ def within_step(
     i: int,
     dt: float,
     types: tuple[StepType, ...],
-    pos: Array,
-    vel: Array,
+    pos: FloatArray,
+    vel: FloatArray,
     own_yaw: float,
     heading: float,
-    next_fixed: Array | None,
+    next_fixed: FloatArray | None,
 ) -> Instant:
     """The instant of a re-plan at sample ``i`` of the step ``rec`` from the measured horizontal CoM
     position and velocity (2,) each; ``types`` the horizon, ``own_yaw`` the stance foot's yaw,

@@ -13,7 +13,7 @@ the displacement ``d`` given in the landing foot's frame, ``S = (x, y, vx, vy)``
 Feet alternate sides, so the orbit has period two: from a left stance with displacements
 ``d_L`` (left -> right) then ``d_R`` (right -> left), ``S*_L = (I - Q^2)^-1 (Q b(d_L) + b(d_R))``.
 
-Speed semantics (docs/online.md): the stride-mean velocity is the CoM displacement over two
+Speed semantics (docs/locomotion.md): the stride-mean velocity is the CoM displacement over two
 consecutive steps divided by their duration, in the heading frame at the middle of those steps. On a
 straight orbit it is ``(d_L + d_R) / 2 tau`` whichever step the stride starts on. On a turning orbit
 the CoM offset from the feet rotates too, so the two strides (starting on the left or on the right)
@@ -29,16 +29,15 @@ import numpy as np
 import numpy.typing as npt
 
 from gaitshift.common.rotations import rot2
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.affine import phase_matrix
 from gaitshift.planners.locomotion.steps import Anchor, StepType
 from gaitshift.trajectory.contract import FLIGHT, LEFT
 
 __all__ = ["Orbit", "feasible_yaw_rate", "step_matrix"]
 
-Array = npt.NDArray[np.float64]
 
-
-def step_matrix(step: StepType) -> tuple[Array, Array]:
+def step_matrix(step: StepType) -> tuple[FloatArray, FloatArray]:
     """Relative one-step map of a step type, per axis: ``s' = A s + B d`` with s = (x - f, v) at the
     SS start and d = f_next - f. Returns A (2, 2), B (2,)."""
     cols = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # rows x, v; columns s_rel, s_v, d (own foot at 0)
@@ -60,9 +59,9 @@ class Orbit:
     """The periodic orbits of one steady step type: ``A``, ``B`` of :func:`step_matrix`."""
 
     step: StepType
-    A: Array
-    B: Array
-    _cache: dict[tuple[float, float], tuple[Array, Array, Array, Array, Array]] = field(
+    A: FloatArray
+    B: FloatArray
+    _cache: dict[tuple[float, float], tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]] = field(
         default_factory=dict, compare=False, repr=False
     )
 
@@ -72,7 +71,7 @@ class Orbit:
         A, B = step_matrix(step)
         return Orbit(step, A, B)
 
-    def _maps(self, yaw_rate: float) -> tuple[Array, Array, Array]:
+    def _maps(self, yaw_rate: float) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Q (4, 4), b = B kron I2 (4, 2), and (I - Q^2)^-1 (4, 4) for one yaw rate."""
         theta = yaw_rate * self.step.duration
         Q = np.kron(np.eye(2), rot2(-theta)) @ np.kron(self.A, np.eye(2))
@@ -80,7 +79,9 @@ class Orbit:
         K = np.asarray(np.linalg.inv(np.eye(4) - Q @ Q), dtype=np.float64)
         return np.asarray(Q, dtype=np.float64), np.asarray(b, dtype=np.float64), K
 
-    def _system(self, width: float, yaw_rate: float) -> tuple[Array, Array, Array, Array, Array]:
+    def _system(
+        self, width: float, yaw_rate: float
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
         """Everything of :meth:`pattern` and :meth:`state` that does not depend on the velocity,
         cached per (width, yaw rate): the inverse of the mean stride map, its offset, and the orbit
         maps. The velocity only enters right-hand sides."""
@@ -99,7 +100,9 @@ class Orbit:
         td = self.step.duration if self.step.phases[-1].kind == FLIGHT else self.step.single_support
         return yaw_rate * (self.step.duration - td)
 
-    def _build_system(self, width: float, yaw_rate: float) -> tuple[Array, Array, Array, Array, Array]:
+    def _build_system(
+        self, width: float, yaw_rate: float
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
         tau = self.step.duration
         theta = yaw_rate * tau
         Q, b, K = self._maps(yaw_rate)
@@ -109,7 +112,9 @@ class Orbit:
         dL = (np.eye(2), np.array([0.0, -width]))
         dR = (np.eye(2), np.array([0.0, width]))
 
-        def stride(d1: tuple[Array, Array], d2: tuple[Array, Array]) -> tuple[Array, Array]:
+        def stride(
+            d1: tuple[FloatArray, FloatArray], d2: tuple[FloatArray, FloatArray]
+        ) -> tuple[FloatArray, FloatArray]:
             """(M, c): the displacement of a stride with steps d1, d2 is M z + c (mid-stride frame)."""
             r = [(K @ (Q @ b @ d1[k] + b @ d2[k]))[:2] for k in (0, 1)]
             M = back @ (R1 @ d1[0] + R2 @ d2[0] + (R2 - np.eye(2)) @ r[0])
@@ -121,7 +126,7 @@ class Orbit:
         Minv = np.asarray(np.linalg.inv(0.5 * (ML + MR)), dtype=np.float64)
         return Minv, np.asarray(0.5 * (cL + cR), dtype=np.float64), Q, b, K
 
-    def pattern(self, velocity: npt.ArrayLike, width: float, yaw_rate: float = 0.0) -> tuple[Array, Array]:
+    def pattern(self, velocity: npt.ArrayLike, width: float, yaw_rate: float = 0.0) -> tuple[FloatArray, FloatArray]:
         """Foot displacements (2,) each, in the landing foot's frame: ``d_L`` from a left stance and
         ``d_R`` from a right stance, such that the mean of the stride-mean velocities starting on
         either foot equals ``velocity`` (vx, vy) in the heading frame (module docstring)."""
@@ -130,7 +135,9 @@ class Orbit:
         z = Minv @ (2.0 * self.step.duration * v - c)
         return np.array([z[0], -width + z[1]]), np.array([z[0], width + z[1]])
 
-    def state(self, velocity: npt.ArrayLike, width: float, side: int, yaw_rate: float = 0.0) -> tuple[Array, Array]:
+    def state(
+        self, velocity: npt.ArrayLike, width: float, side: int, yaw_rate: float = 0.0
+    ) -> tuple[FloatArray, FloatArray]:
         """Orbit state at the SS start of a stance on ``side``, in that foot's frame: CoM position
         relative to the foot (2,) m and CoM velocity (2,) m/s, for the command ``velocity`` (vx, vy)
         m/s and ``yaw_rate`` rad/s with the foot pattern of :meth:`pattern`."""

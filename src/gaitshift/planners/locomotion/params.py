@@ -78,7 +78,7 @@ PAPER_TIMING = {"walk_single": 0.40, "double": 0.15, "run_single": 0.30, "flight
 PAPER_FOOT = (0.22, 0.12)
 PAPER_STEP_WIDTH = 0.20
 PAPER_SWING = 0.08
-#: Froude numbers v^2 / (g l) of the default walk -> run and run -> walk switches (docs/online.md):
+#: Froude numbers v^2 / (g l) of the default walk -> run and run -> walk switches (docs/locomotion.md):
 #: below the constant-height walk's envelope, which the G1 holds to Fr = 0.12 (0.9 m/s) and not at 0.15
 FROUDE_UP = 0.10
 FROUDE_DOWN = 0.06
@@ -101,7 +101,7 @@ def _on_grid(value: float, dt: float, multiple: int = 1) -> float:
 def params_from_scenario(sc: Any, facts: RobotFacts | None) -> LocomotionParams:
     """Resolve a :class:`~gaitshift.scenario.locomotion.LocomotionScenario` into numbers: every key
     left out takes its default from ``facts`` (the scenario's robot) or from paper 001
-    (docs/online.md, "Defaults")."""
+    (docs/locomotion.md, "Defaults")."""
     g, dt = float(sc.gravity), float(sc.dt)
     h = sc.height or (facts.com_height if facts else PAPER_HEIGHT)
     leg = sc.leg_length or (facts.leg_length if facts else h)

@@ -6,7 +6,7 @@ from typing import Any
 
 from gaitshift.planners.locomotion.generator import LocomotionGenerator
 from gaitshift.planners.locomotion.params import params_from_scenario
-from gaitshift.planners.online.script import CommandScript
+from gaitshift.planners.streaming.script import CommandScript
 from gaitshift.scenario.facts import RobotFacts
 from gaitshift.trajectory.contract import Trajectory
 

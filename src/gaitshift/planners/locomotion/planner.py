@@ -20,9 +20,9 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import numpy.typing as npt
 
 from gaitshift.common.rotations import rot2
+from gaitshift.models.arrays import FloatArray, Int8Array
 from gaitshift.planners.locomotion.affine import Affine
 from gaitshift.planners.locomotion.horizon import HorizonStep, Row, Unknowns, rollout, solve
 from gaitshift.planners.locomotion.orbit import Orbit
@@ -32,7 +32,6 @@ from gaitshift.trajectory.contract import FLIGHT, LEFT, SS
 
 __all__ = ["Instant", "Plan", "has_knot", "horizon", "is_start", "plan_instant", "touchdown_offset"]
 
-Array = npt.NDArray[np.float64]
 #: weights of the minimum-norm objective (1/m^2): displacements and knots pulled to their nominal
 W_FOOT = 1.0
 W_KNOT = 1.0
@@ -107,17 +106,17 @@ class Instant:
     first_phase: int
     elapsed: float
     time_in_step: float
-    x: Array
-    v: Array
-    own: Array
+    x: FloatArray
+    v: FloatArray
+    own: FloatArray
     own_yaw: float
     own_side: int
-    next_fixed: Array | None
+    next_fixed: FloatArray | None
     next_yaw: float
     heading: float
     yaw_rate: float
-    velocity: Array
-    goal: Array | None = None
+    velocity: FloatArray
+    goal: FloatArray | None = None
     stop_yaw: float | None = None
 
 
@@ -126,10 +125,10 @@ class Plan:
     """The next foot of every step of the horizon (n, 2), its yaw (n,) and side (n,); the knots by
     step index; whether the target was met exactly; the horizon's step types."""
 
-    footholds: Array
-    yaws: Array
-    sides: npt.NDArray[np.int8]
-    knots: dict[int, Array]
+    footholds: FloatArray
+    yaws: FloatArray
+    sides: Int8Array
+    knots: dict[int, FloatArray]
     exact: bool
     types: tuple[StepType, ...]
 
@@ -156,7 +155,7 @@ def _yaws_sides(inst: Instant) -> tuple[list[float], list[float], list[int]]:
     return starts, yaws, sides
 
 
-def _ds_box(params: LocomotionParams, separation: float) -> tuple[Array, Array]:
+def _ds_box(params: LocomotionParams, separation: float) -> tuple[FloatArray, FloatArray]:
     """Bounds of a knot's offset from the middle of two side-by-side soles (their frame), m."""
     L, W = params.foot_size
     m = params.zmp_margin
@@ -164,7 +163,7 @@ def _ds_box(params: LocomotionParams, separation: float) -> tuple[Array, Array]:
     return -half, half
 
 
-def _nominal_step(inst: Instant, st: StepType, side: int, w: float, orbits: dict[str, Orbit]) -> Array:
+def _nominal_step(inst: Instant, st: StepType, side: int, w: float, orbits: dict[str, Orbit]) -> FloatArray:
     """Nominal displacement of a step from a stance on ``side`` (landing frame): the steady pattern
     of its gait at the target velocity and yaw rate (:meth:`Orbit.pattern`)."""
     steady = "run" if st.gait == Gait.RUN else "walk"

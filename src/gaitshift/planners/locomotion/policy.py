@@ -21,9 +21,9 @@ from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
-import numpy.typing as npt
 
 from gaitshift.errors import InputError
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.command import clamp_command, next_gait, ramp
 from gaitshift.planners.locomotion.goto import Goal, goto_command
 from gaitshift.planners.locomotion.orbit import Orbit, feasible_yaw_rate
@@ -33,7 +33,6 @@ from gaitshift.planners.locomotion.steps import SUCCESSOR, Gait, StepType
 
 __all__ = ["ZERO", "TargetPolicy"]
 
-Array = npt.NDArray[np.float64]
 #: a target speed below this is "zero" (m/s, rad/s)
 ZERO = 1e-9
 #: reports an event: (kind, field, requested, applied, note)
@@ -63,14 +62,14 @@ class TargetPolicy:
         self._closing = 0  # walking steps left before the goal's closing stop
 
     # ------------------------------------------------------------------ inputs
-    def stride_speed(self) -> Array:
+    def stride_speed(self) -> FloatArray:
         """Largest |vx|, |vy|, |yaw rate| the foothold limits allow in the fastest allowed gait."""
         lim, tm = self.p.limits, self.p.timing
         period = tm.walk_single + tm.double if self.p.gait == "walk" else tm.run_single + tm.flight
         lateral = max(0.0, min(self.p.step_width - lim.width[0], lim.width[1] - self.p.step_width))
         return np.array([lim.max_stride / period, lateral / period, lim.max_turn / period])
 
-    def command(self, vx: float, vy: float, yaw_rate: float, ended: bool) -> Array:
+    def command(self, vx: float, vy: float, yaw_rate: float, ended: bool) -> FloatArray:
         """Apply a command (clamped; ignored once ``ended`` or stopping, with an event). Returns the
         command in force.
 
@@ -129,7 +128,7 @@ class TargetPolicy:
         self.target = np.zeros(3)
 
     # ------------------------------------------------------------------ per step
-    def update(self, this: StepType, com: Array, heading: float) -> None:
+    def update(self, this: StepType, com: FloatArray, heading: float) -> None:
         """Set the target of the step ``this`` that starts now, with the CoM (2,) and heading there."""
         self._steer(com, heading)
         if self.goal is not None and self.stopping:
@@ -138,7 +137,7 @@ class TargetPolicy:
             self.target = ramp(self.target, self.cmd, self.p.limits.max_accel, 2.0 * this.duration)
             self._limit_turn(this)
 
-    def _steer(self, com: Array, heading: float) -> None:
+    def _steer(self, com: FloatArray, heading: float) -> None:
         """Goto mode: the command from the pose error; close on the goal when it is in reach."""
         if self.goal is None or self.stopping:
             return
@@ -220,7 +219,7 @@ class TargetPolicy:
         return nxt == "stop" or (self.goal is not None and self.stopping)
 
     # ------------------------------------------------------------------ infeasible targets
-    def soften(self, inst: Instant, plan: Plan, previous: Array) -> tuple[Plan, Instant]:
+    def soften(self, inst: Instant, plan: Plan, previous: FloatArray) -> tuple[Plan, Instant]:
         """The target change of this instant is more than the limits allow from the current state:
         take the largest share ``a`` of it (``previous + a (target - previous)``, bisection over 7
         halvings) that still has an exact plan, so the ramp slows down instead of the plan giving up

@@ -12,12 +12,11 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.sampling import Segment
 from gaitshift.planners.locomotion.steps import Anchor, PhaseSpec, StepType
 
 __all__ = ["StepRecord", "phase_samples"]
-
-Array = npt.NDArray[np.float64]
 
 
 def phase_samples(step: StepType, dt: float) -> npt.NDArray[np.int64]:
@@ -45,17 +44,17 @@ class StepRecord:
     step: StepType
     i0: int
     bounds: npt.NDArray[np.int64]
-    own: Array
+    own: FloatArray
     own_side: int
-    next: Array
+    next: FloatArray
     next_yaw: float
     next_side: int
-    knot: Array | None
-    rest: Array | None
+    knot: FloatArray | None
+    rest: FloatArray | None
     psi0: float
     omega: float
     ground: float
-    target: Array
+    target: FloatArray
 
     @property
     def i1(self) -> int:
@@ -66,21 +65,21 @@ class StepRecord:
         """Index of the phase that sample ``i`` belongs to."""
         return int(np.searchsorted(self.bounds, i, side="right") - 1)
 
-    def point(self, a: Anchor) -> Array:
+    def point(self, a: Anchor) -> FloatArray:
         """The point an anchor names, (2,)."""
         p = {Anchor.OWN: self.own, Anchor.NEXT: self.next, Anchor.KNOT: self.knot, Anchor.REST: self.rest}[a]
         if p is None:
             raise ValueError(f"step {self.step.name} has no {a.name} point")
         return p
 
-    def zmp_ends(self, ph: PhaseSpec) -> tuple[Array, Array] | tuple[None, None]:
+    def zmp_ends(self, ph: PhaseSpec) -> tuple[FloatArray, FloatArray] | tuple[None, None]:
         """ZMP (3,) at the start and end of a phase (ground height in z), or (None, None) in flight."""
         if ph.zmp is None:
             return None, None
         c0, c1 = self.point(ph.zmp.start), self.point(ph.zmp.end)
         return np.array([c0[0], c0[1], self.ground]), np.array([c1[0], c1[1], self.ground])
 
-    def segments(self, i: int, p: Array, v: Array, dt: float) -> list[Segment]:
+    def segments(self, i: int, p: FloatArray, v: FloatArray, dt: float) -> list[Segment]:
         """The segments from sample ``i`` (state p, v (3,) there) to the end of the step; the first one
         starts mid-phase when ``i`` is not a boundary. The state of later segments is filled in by
         the sampler (the last row of :func:`gaitshift.planners.locomotion.sampling.sample_segment`)."""

@@ -1,19 +1,17 @@
-"""Sample blocks of the locomotion generator and their assembly into the trajectory file."""
+"""The columns of the locomotion generator's sample blocks and their assembly into the trajectory file."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 
 from gaitshift.planners.locomotion.steps import STEP_CODES
+from gaitshift.planners.streaming.samples import Samples
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["FIELDS", "LocoSamples", "concat", "locomotion_meta", "trajectory_from"]
+__all__ = ["FIELDS", "locomotion_meta", "trajectory_from"]
 
-Array = npt.NDArray[np.float64]
 #: per-sample fields: name -> (trailing shape, dtype)
 FIELDS: dict[str, tuple[tuple[int, ...], Any]] = {
     "com_pos": ((3,), np.float64),
@@ -34,45 +32,14 @@ FIELDS: dict[str, tuple[tuple[int, ...], Any]] = {
 }
 
 
-@dataclass(frozen=True, eq=False)
-class LocoSamples:
-    """A block of m consecutive samples: every buffer column (shapes as in the trajectory file, plus
-    ``foot_vel``/``foot_acc`` (m, 2, 4) for x, y, z, yaw), and the applied command (m, 3)."""
-
-    t: Array
-    cols: dict[str, npt.NDArray[Any]]
-    command: Array
-
-    def __len__(self) -> int:
-        return len(self.t)
-
-    def __getattr__(self, name: str) -> npt.NDArray[Any]:
-        cols: dict[str, npt.NDArray[Any]] = self.__dict__.get("cols", {})
-        if name in cols:
-            return cols[name]
-        raise AttributeError(name)
-
-
-def concat(blocks: list[LocoSamples]) -> LocoSamples:
-    """One block of consecutive blocks."""
-    if len(blocks) == 1:
-        return blocks[0]
-    return LocoSamples(
-        np.concatenate([b.t for b in blocks]),
-        {k: np.concatenate([b.cols[k] for b in blocks]) for k in blocks[0].cols},
-        np.concatenate([b.command for b in blocks]),
-    )
-
-
 def trajectory_from(
-    blocks: list[LocoSamples],
+    s: Samples,
     footsteps: list[tuple[float, float, float, float, int]],
     bounds: list[int],
     meta: dict[str, Any],
 ) -> Trajectory:
-    """The trajectory file of the emitted ``blocks`` (planner "locomotion"): the footholds landed on
-    (x, y, z, yaw, side), the phase boundaries (sample indices) and the ``meta`` to write."""
-    s = concat(blocks)
+    """The trajectory file of the emitted samples ``s`` (planner "locomotion"): the footholds landed
+    on (x, y, z, yaw, side), the phase boundaries (sample indices) and the ``meta`` to write."""
     cols, cmd, t = s.cols, s.command, s.t
     dt = float(t[1] - t[0]) if len(t) > 1 else 0.0
     fs = np.array([f[:4] for f in footsteps], dtype=np.float64)

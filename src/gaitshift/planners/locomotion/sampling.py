@@ -12,13 +12,11 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-import numpy.typing as npt
 
+from gaitshift.models.arrays import FloatArray
 from gaitshift.trajectory.contract import FLIGHT
 
 __all__ = ["Segment", "sample_segment", "segment_end"]
-
-Array = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -32,13 +30,13 @@ class Segment:
     n: int
     duration: float
     stiffness: float
-    p0: Array
-    v0: Array
-    c0: Array | None
-    c1: Array | None
+    p0: FloatArray
+    v0: FloatArray
+    c0: FloatArray | None
+    c1: FloatArray | None
 
 
-def sample_segment(seg: Segment, dt: float, g: float) -> tuple[Array, Array, Array, Array]:
+def sample_segment(seg: Segment, dt: float, g: float) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """(pos, vel, acc, zmp), each (n + 1, 3), at samples ``i0 .. i0+n``: the last row is the state at
     the segment's end (the next segment's start). The ZMP is NaN in flight.
 
@@ -71,7 +69,7 @@ def sample_segment(seg: Segment, dt: float, g: float) -> tuple[Array, Array, Arr
     return p, v, a, zmp
 
 
-def segment_end(seg: Segment, dt: float, g: float) -> tuple[Array, Array]:
+def segment_end(seg: Segment, dt: float, g: float) -> tuple[FloatArray, FloatArray]:
     """The CoM position and velocity (3,) each at the segment's end (the last row of
     :func:`sample_segment`, evaluated alone)."""
     p, v, _, _ = sample_segment(replace(seg, n=0), dt, g)

@@ -4,7 +4,7 @@ A *step* is the single support on one foot followed by the transfer to the next 
 support (walking) or a flight (running). Every phase obeys eq. (1) of paper 001,
 ``p'' = (p - c)/T^2 - g e_z``, with a constant stiffness T and a ZMP ``c`` moving linearly in the
 phase. The stiffness of each phase is chosen so that the vertical CoM state closes exactly at every
-phase boundary (paper 001 §III, docs/online.md "Step types"):
+phase boundary (paper 001 §III, docs/locomotion.md "Step types"):
 
 ==============  ===============================  ================================  =========
 step type       phases                           vertical state at the SS start    gait

@@ -1,6 +1,6 @@
 """Writing committed steps into the sample buffer: the CoM by closed forms, the feet by their swings.
 
-:class:`StepWriter` owns the look-ahead buffer (:class:`~gaitshift.planners.online.buffer.SampleBuffer`
+:class:`StepWriter` owns the look-ahead buffer (:class:`~gaitshift.planners.streaming.buffer.SampleBuffer`
 of :data:`~.samples.FIELDS`), the two foot tracks (:class:`~.feet.FootTrack`), the list of footholds
 landed on and the CoM state at the end of the last step written. Every step is written whole when it
 is committed (and again from the re-plan sample on after a re-plan): the step's end state is
@@ -18,20 +18,20 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 
+from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.feet import FootTrack, Swing
 from gaitshift.planners.locomotion.planner import Plan, is_start, touchdown_offset
 from gaitshift.planners.locomotion.record import StepRecord
-from gaitshift.planners.locomotion.samples import FIELDS, LocoSamples
+from gaitshift.planners.locomotion.samples import FIELDS
 from gaitshift.planners.locomotion.sampling import Segment, sample_segment, segment_end
 from gaitshift.planners.locomotion.steps import STEP_CODES
-from gaitshift.planners.online.buffer import SampleBuffer
+from gaitshift.planners.streaming.buffer import SampleBuffer
+from gaitshift.planners.streaming.samples import Samples
 from gaitshift.trajectory.contract import DS, FLIGHT, LEFT, RIGHT, SS
 
 __all__ = ["StepWriter"]
 
-Array = npt.NDArray[np.float64]
 Foothold = tuple[float, float, float, float, int]
 
 
@@ -56,7 +56,7 @@ class StepWriter:
             RIGHT: FootTrack(np.array([0.0, -0.5 * width, 0.0, 0.0])),
         }
         self.footsteps: list[Foothold] = [(0.0, 0.5 * width, 0.0, 0.0, LEFT), (0.0, -0.5 * width, 0.0, 0.0, RIGHT)]
-        self.end_state: tuple[Array, Array] = (np.array([0.0, 0.0, height]), np.zeros(3))
+        self.end_state: tuple[FloatArray, FloatArray] = (np.array([0.0, 0.0, height]), np.zeros(3))
         self.bounds: list[int] = [0]
         self.jobs: list[tuple[Segment, StepRecord, int]] = []  # CoM segments planned, not yet written
         self.feet_upto = 0  # foot columns are written (and valid) before this sample
@@ -81,7 +81,7 @@ class StepWriter:
         )
         self.feet_upto = min(self.feet_upto, a)
 
-    def commit(self, rec: StepRecord, plan: Plan, p: Array, v: Array, step: int) -> None:
+    def commit(self, rec: StepRecord, plan: Plan, p: FloatArray, v: FloatArray, step: int) -> None:
         """A newly committed step: its phase boundaries, its swings and its samples from its start."""
         self.bounds += [int(b) for b in rec.bounds if b > self.bounds[-1]]
         self.set_swings(rec, plan)
@@ -125,7 +125,7 @@ class StepWriter:
             if own_sw is not None:
                 own_sw.retarget(i, np.array([plan.footholds[1][0], plan.footholds[1][1], rec.ground, plan.yaws[1]]))
 
-    def sample(self, rec: StepRecord, i: int, p: Array, v: Array, step: int) -> None:
+    def sample(self, rec: StepRecord, i: int, p: FloatArray, v: FloatArray, step: int) -> None:
         """Plan the CoM rows from sample ``i`` (state p, v (3,)) to the end of the step: the segments
         and the end state now, the rows when :meth:`ensure` needs them; the feet from ``i`` again."""
         segs = rec.segments(i, p, v, self.dt)
@@ -174,7 +174,7 @@ class StepWriter:
             step_type=np.full(m, STEP_CODES[rec.step.name], np.int8),
         )
 
-    def feet_rows(self, a: int, b: int) -> dict[str, Array]:
+    def feet_rows(self, a: int, b: int) -> dict[str, FloatArray]:
         """Foot columns (pose, rates, accelerations) for rows a..b-1 from the swing tracks."""
         pos = np.empty((b - a, 2, 4))
         vel = np.empty_like(pos)
@@ -188,11 +188,11 @@ class StepWriter:
         self.ensure(i + 1, feet=False)
         return float(self.buf["com_pos"][i][2]), float(self.buf["com_vel"][i][2])
 
-    def emit(self, i: int, m: int, command: Array) -> LocoSamples:
+    def emit(self, i: int, m: int, command: FloatArray) -> Samples:
         """Rows i..i+m-1 as a block (with the applied command), then release them."""
         self.ensure(i + m)
         rows: dict[str, Any] = self.buf.rows(i, i + m)
-        out = LocoSamples(np.arange(i, i + m, dtype=np.float64) * self.dt, rows, np.tile(command, (m, 1)))
+        out = Samples(np.arange(i, i + m, dtype=np.float64) * self.dt, rows, np.tile(command, (m, 1)))
         self.buf.release(i + m - 1)
         for track in self.feet.values():
             track.prune(i + m - 1)
