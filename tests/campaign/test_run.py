@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import dask
+import distributed  # noqa: F401  (loads its config defaults: the config.set below then restores only the preload)
 import pyarrow.parquet as pq
 import pytest
 

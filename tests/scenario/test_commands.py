@@ -4,7 +4,7 @@ InputError naming the flag (or stdin) and the token for anything else."""
 import pytest
 
 from gaitshift.errors import InputError
-from gaitshift.scenario.commands import ACTIONS, KEY_STEP, KEYS, MAX_WAIT, parse_script
+from gaitshift.scenario.commands import ACTIONS, KEYS, LOCOMOTION_STEP, MAX_WAIT, VHIP_STEP, key_change, parse_script
 
 
 def test_tokens_are_parsed_in_order_with_any_separator_and_case():
@@ -19,9 +19,13 @@ def test_tokens_are_parsed_in_order_with_any_separator_and_case():
     assert parse_script("   ") == []
 
 
-def test_arrows_step_the_speed_command_by_key_step():
-    assert KEYS["up"] == (KEY_STEP, 0.0) and KEYS["down"] == (-KEY_STEP, 0.0)
-    assert KEYS["left"] == (0.0, KEY_STEP) and KEYS["right"] == (0.0, -KEY_STEP)
+def test_one_key_table_steps_each_generator_by_its_own_step():
+    assert key_change("up", VHIP_STEP) == (VHIP_STEP[0], 0.0, 0.0) and key_change("down", VHIP_STEP)[0] == -0.3
+    assert key_change("left", VHIP_STEP) == (0.0, VHIP_STEP[1], 0.0)
+    assert key_change("right", LOCOMOTION_STEP) == (0.0, -LOCOMOTION_STEP[1], 0.0)
+    assert key_change("turn-left", LOCOMOTION_STEP) == (0.0, 0.0, LOCOMOTION_STEP[2])
+    assert key_change("turn-right", VHIP_STEP) == (0.0, 0.0, 0.0)  # paper 003 has no yaw-rate command
+    assert set(ACTIONS) == {*KEYS, "stop", "quit"}
 
 
 @pytest.mark.parametrize(

@@ -23,7 +23,7 @@ from gaitshift.cli.web import web_port_option
 from gaitshift.errors import InfeasibleError, InputError
 from gaitshift.planners.vhip.generator import VhipGenerator
 from gaitshift.scenario import load_scenario
-from gaitshift.scenario.commands import KEYS, parse_script
+from gaitshift.scenario.commands import KEYS, VHIP_STEP, key_change, parse_script
 from gaitshift.trajectory.formats import SUFFIXES
 
 #: longest run, s (a scenario's runs are at most 10 minutes too)
@@ -53,9 +53,10 @@ def _status(gen: VhipGenerator) -> str:
 def _apply(gen: VhipGenerator, action: str) -> bool:
     """Apply one key action; True when the user asked to quit."""
     if action in KEYS:
-        dvx, dvy = KEYS[action]
+        dvx, dvy, _ = key_change(action, VHIP_STEP)  # paper 003 has no yaw-rate command
         c = gen.command_velocity
-        gen.command(c[0] + dvx, c[1] + dvy)
+        if dvx or dvy:
+            gen.command(c[0] + dvx, c[1] + dvy)
     elif action in ("stop", "quit"):
         gen.stop()
     return action == "quit"

@@ -40,13 +40,13 @@ from gaitshift.control.feedback import PlanShift, SwingContext
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.control.initial_pose import initial_qpos
 from gaitshift.control.plan_samples import PlanSamples
-from gaitshift.control.reference import TickReference, tick_reference
+from gaitshift.control.reference import tick_reference
 from gaitshift.control.schedule import FootScheduler
 from gaitshift.control.settings import ControllerSettings
 from gaitshift.control.state import ControllerState, EstimateRecord, StateView
 from gaitshift.control.step_limits import StepLimits
 from gaitshift.control.wbc import WholeBodyController
-from gaitshift.control.wbc_data import TickInfo, gains_for
+from gaitshift.control.wbc_data import TickInfo, TickReference, gains_for
 from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig
 from gaitshift.robots.model import RobotModel, robot_model

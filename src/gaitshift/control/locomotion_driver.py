@@ -43,7 +43,7 @@ class LocomotionDriver:
             loop's step feedback (capture point: swing feet re-aimed from the measured divergent
             component every tick, the plan translated at touchdown, :mod:`gaitshift.control.feedback`)
             corrects the footholds instead (``step_feedback`` True). Measured on the G1
-            (docs/online.md "Closed loop"): gains 0.5 and 1 fell in running.
+            (docs/locomotion.md "Closed loop"): gains 0.5 and 1 fell in running.
 
     Attributes:
         trajectory: the plan as known now (the emitted history and the look-ahead).

@@ -239,7 +239,7 @@ class ControllerState:
             q, v, touching, slip = q_est, v_est, touch_est, slip_est
         view = self._view(q, v, touching, slip)
         c = self.cdata
-        if com is None:  # the first tick: the start state, which the controller's data holds
+        if com is None or com_vel is None:  # the first tick: the start state, which the controller's data holds
             com, com_vel = c.subtree_com[0].copy(), c.subtree_linvel[0].copy()
         self.record = EstimateRecord(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
         return view

@@ -1,11 +1,11 @@
-"""The command-script format of ``gaitshift teleop``: key tokens that drive the online VHIP generator.
+"""The command-script format of ``gaitshift teleop``: key tokens that drive a streaming generator.
 
-A script is whitespace-, comma- or semicolon-separated tokens (case-insensitive):
+A script is whitespace-, comma- or semicolon-separated tokens (case-insensitive); one table,
+:data:`KEYS`, says what each key token changes, and each driven generator has its step per axis:
 
-* ``up`` / ``down``: forward speed command +/- :data:`KEY_STEP` m/s; ``left`` / ``right``: lateral
-  speed command +/- :data:`KEY_STEP` m/s (left is +y);
-* ``turn-left`` / ``turn-right``: yaw-rate command (``teleop --sim`` only, see
-  :data:`gaitshift.sim.teleop.SIM_KEYS`);
+* ``up`` / ``down``: forward speed command +/- one step; ``left`` / ``right``: lateral speed command
+  +/- one step (left is +y);
+* ``turn-left`` / ``turn-right``: yaw-rate command +/- one step;
 * ``stop``: request the stop to rest; ``quit``: stop and end the script;
 * ``wait=<seconds>`` (or ``wait:<seconds>``): let the generator run, 0 <= seconds <= :data:`MAX_WAIT`.
 
@@ -19,17 +19,29 @@ import re
 
 from gaitshift.errors import InputError
 
-#: command change per arrow key press, m/s
-KEY_STEP = 0.3
-#: token -> (d vx, d vy) of the speed command, m/s
-KEYS: dict[str, tuple[float, float]] = {
-    "up": (KEY_STEP, 0.0),
-    "down": (-KEY_STEP, 0.0),
-    "left": (0.0, KEY_STEP),
-    "right": (0.0, -KEY_STEP),
+#: token -> the change of the command (vx, vy, yaw rate) it makes, in steps of the driven generator
+KEYS: dict[str, tuple[int, int, int]] = {
+    "up": (1, 0, 0),
+    "down": (-1, 0, 0),
+    "left": (0, 1, 0),
+    "right": (0, -1, 0),
+    "turn-left": (0, 0, 1),
+    "turn-right": (0, 0, -1),
 }
+#: steps (vx m/s, vy m/s, yaw rate rad/s) of one key press: paper 003's runner (speeds of m/s, no yaw
+#: command) and the live locomotion generator of ``teleop --sim`` (a walking robot's finer steps)
+VHIP_STEP = (0.3, 0.3, 0.0)
+LOCOMOTION_STEP = (0.1, 0.05, 0.2)
 #: tokens without an argument
-ACTIONS = (*KEYS, "turn-left", "turn-right", "stop", "quit")
+ACTIONS = (*KEYS, "stop", "quit")
+
+
+def key_change(action: str, step: tuple[float, float, float]) -> tuple[float, float, float]:
+    """The change (vx, vy, yaw rate) that key token ``action`` (of :data:`KEYS`) makes with ``step``."""
+    dvx, dvy, dw = KEYS[action]
+    return dvx * step[0], dvy * step[1], dw * step[2]
+
+
 #: longest single wait, s
 MAX_WAIT = 3600.0
 _WAIT = re.compile(r"wait[=:](.*)", re.IGNORECASE | re.DOTALL)

@@ -7,7 +7,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from gaitshift.control.wbc import TickInfo, TickReference
+from gaitshift.control.wbc_data import TickInfo, TickReference
 from gaitshift.sim.contacts import FootContacts
 
 

@@ -8,7 +8,8 @@ second of simulated time. Actions come from a script (tokens with waits in simul
 from a poll function (a keyboard). ``quit`` (or the end of the script) requests the stop; the run
 ends once the robot stands at rest.
 
-Key actions change the command by :data:`SIM_KEYS`: ``up``/``down`` forward speed, ``left``/``right``
+Key actions change the command by the one key table (:data:`gaitshift.scenario.commands.KEYS`, steps
+:data:`~gaitshift.scenario.commands.LOCOMOTION_STEP`): ``up``/``down`` forward speed, ``left``/``right``
 lateral speed, ``turn-left``/``turn-right`` yaw rate; ``stop`` and ``quit`` stop.
 """
 
@@ -23,21 +24,13 @@ from typing import Any
 import numpy as np
 
 from gaitshift.control.locomotion_driver import LocomotionDriver
+from gaitshift.scenario.commands import KEYS, LOCOMOTION_STEP, key_change
 from gaitshift.sim.loop import TickHook
 from gaitshift.sim.result import SimResult
 from gaitshift.sim.scenario_run import simulate_scenario
 
-__all__ = ["SIM_KEYS", "Session", "run_session"]
+__all__ = ["Session", "run_session"]
 
-#: action -> change of (vx m/s, vy m/s, yaw rate rad/s)
-SIM_KEYS: dict[str, tuple[float, float, float]] = {
-    "up": (0.1, 0.0, 0.0),
-    "down": (-0.1, 0.0, 0.0),
-    "left": (0.0, 0.05, 0.0),
-    "right": (0.0, -0.05, 0.0),
-    "turn-left": (0.0, 0.0, 0.2),
-    "turn-right": (0.0, 0.0, -0.2),
-}
 GAIT_NAMES = ("stand", "walk", "run")
 #: simulated time between two status lines, s
 STATUS_PERIOD = 0.5
@@ -68,8 +61,8 @@ class Session:
 
     def apply(self, action: str, t: float) -> None:
         """One key action at plan time ``t`` (s)."""
-        if action in SIM_KEYS:
-            self.command = self.command + np.array(SIM_KEYS[action])
+        if action in KEYS:
+            self.command = self.command + np.array(key_change(action, LOCOMOTION_STEP))
             self.driver.command(*self.command.tolist())
         elif action in ("stop", "quit") and not self.quitting:
             self.quitting = True
@@ -142,6 +135,6 @@ def run_session(
     """Run the closed loop of a live session on ``robot`` (name, YAML or config) until the robot
     stands at rest after the stop; ``views`` are tick hooks called after the session's (a browser
     view, :mod:`gaitshift.sim.web`)."""
-    hooks = [session, *views]
+    hooks: list[TickHook] = [session, *views]
     run = simulate_scenario(driver.sc, robot, driver=driver, hooks=hooks, control_period=driver.gen.dt, viewer=viewer)
     return run.result

@@ -3,7 +3,7 @@
 * Stride speed: for every window of two consecutive planned steps (single-support start to the
   single-support start two steps later) that the run completed, the **measured** stride-mean
   velocity, i.e. the CoM displacement over the window divided by its duration, in the plan's heading
-  frame at the window's middle (the definition of docs/online.md), minus the applied command
+  frame at the window's middle (the definition of docs/locomotion.md), minus the applied command
   (``command_vel``) of the window. Windows count only where the plan itself is steady: its own
   stride-mean is within 0.03 m/s of the command and the command and the gait do not change in the
   window (ramps, gait switches, starts and stops are excluded: there the command is not the target).

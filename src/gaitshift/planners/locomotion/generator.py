@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import copy
 from dataclasses import replace
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -33,7 +35,7 @@ from gaitshift.models.arrays import FloatArray
 from gaitshift.models.stiffness import stiffness as solve_stiffness
 from gaitshift.planners.locomotion.instants import within_step, within_step_unknowns
 from gaitshift.planners.locomotion.orbit import Orbit
-from gaitshift.planners.locomotion.params import LocomotionParams
+from gaitshift.planners.locomotion.params import LocomotionParams, params_from_scenario
 from gaitshift.planners.locomotion.planner import (
     Instant,
     Plan,
@@ -49,6 +51,8 @@ from gaitshift.planners.locomotion.steps import SUCCESSOR, Gait, StepType, build
 from gaitshift.planners.locomotion.writer import StepWriter
 from gaitshift.planners.streaming.generator import StreamingGenerator
 from gaitshift.planners.streaming.samples import Samples
+from gaitshift.scenario.facts import RobotFacts
+from gaitshift.scenario.loader import load_scenario
 from gaitshift.trajectory.contract import LEFT, RIGHT, Trajectory
 
 __all__ = ["LocomotionGenerator"]
@@ -63,6 +67,19 @@ class LocomotionGenerator(StreamingGenerator):
         (:class:`~.policy.TargetPolicy`); writer: buffer, feet and footholds
         (:class:`~.writer.StepWriter`); events: what the generator changed or refused.
     """
+
+    @classmethod
+    def from_scenario(cls, scenario: Any, facts: RobotFacts | None = None) -> LocomotionGenerator:
+        """The generator of a locomotion scenario (a built-in name, a YAML path or a loaded
+        ``planner: locomotion`` scenario) with the numbers of its robot ``facts``
+        (:func:`gaitshift.api.robot_facts`; required when the scenario names a robot, whose model the
+        planners never load). Commands are given live (:meth:`command`, :meth:`goto`, :meth:`stop`)."""
+        sc = load_scenario(scenario) if isinstance(scenario, str | Path) else scenario
+        if getattr(sc, "planner", None) != "locomotion":
+            raise InputError("scenario", getattr(sc, "name", scenario), "a planner: locomotion scenario")
+        if facts is None and getattr(sc, "robot", None) is not None:
+            raise InputError("facts", None, f"the facts of robot '{sc.robot}' (gaitshift.api.robot_facts(scenario))")
+        return cls(params_from_scenario(sc, facts))
 
     def __init__(self, params: LocomotionParams, keep_history: bool = True) -> None:
         p = params
