@@ -101,7 +101,7 @@ class ReportFiles:
     figures: Path | None = None
 
 
-def report(result: Any, traj: Any, cfg: Any, replanner: Any, files: ReportFiles, as_json: bool, name: str) -> None:
+def report(result: Any, traj: Any, cfg: Any, driver: Any, files: ReportFiles, as_json: bool, name: str) -> None:
     """Save the run and print its metrics (JSON alone on stdout with ``as_json``); exit 1 on a fall."""
     from gaitshift.common.jsonsafe import finite_json
     from gaitshift.export.sim_recording import record_simulation
@@ -118,7 +118,7 @@ def report(result: Any, traj: Any, cfg: Any, replanner: Any, files: ReportFiles,
     if as_json:
         typer.echo(json.dumps(finite_json(result.metrics), allow_nan=False))
     else:
-        typer.echo(_summary_line(name, cfg.name, traj, replanner, result.meta))
+        typer.echo(_summary_line(name, cfg.name, traj, driver, result.meta))
         typer.echo(format_metrics(result.metrics))
     written = [str(f) for f in (files.out, files.video, files.rerun) if f is not None]
     typer.echo("wrote " + ", ".join(written), err=as_json)
@@ -164,13 +164,13 @@ def sensing_flags(
     return flags
 
 
-def _summary_line(scenario: str, robot: str, traj: Any, replanner: Any, meta: dict[str, Any]) -> str:
+def _summary_line(scenario: str, robot: str, traj: Any, driver: Any, meta: dict[str, Any]) -> str:
     """The first line of the text report: scenario, robot, footholds, planned duration and feedback."""
     how = ""
-    if replanner is not None:
+    if driver is not None:
         how = (
             ", capture-point step feedback from the measured CoM"
-            if replanner.step_feedback
+            if driver.step_feedback
             else f", {meta['replans']} re-plans from the measured CoM"
         )
     return f"scenario {scenario} on {robot}: {len(traj.footsteps) - 2} footholds, {traj.t[-1]:.2f} s planned{how}"

@@ -12,11 +12,11 @@ from gaitshift.control.schedule import ScheduleSettings
 from gaitshift.control.wbc_data import Gains
 from gaitshift.errors import InputError, number_in
 from gaitshift.scenario.sim_settings import (
-    FRICTION_RANGE,
     LATENCY_RANGE,
     NOISE_PROFILES,
     NOISE_SCALE_RANGE,
     STATE_SOURCES,
+    check_friction,
 )
 
 __all__ = ["ControllerSettings"]
@@ -60,13 +60,7 @@ class ControllerSettings:
             raise InputError("noise", self.noise, "one of: " + ", ".join(NOISE_PROFILES))
         number_in("noise_scale", self.noise_scale, NOISE_SCALE_RANGE)
         number_in("settle", self.settle, (0.0, 60.0), " s")
-        mu = self.assumed_friction
-        if mu is not None and (
-            isinstance(mu, bool) or not isinstance(mu, int | float) or not FRICTION_RANGE[0] <= mu <= FRICTION_RANGE[1]
-        ):
-            raise InputError(
-                "assumed_friction", mu, f"a friction coefficient in [{FRICTION_RANGE[0]}, {FRICTION_RANGE[1]}]"
-            )
+        check_friction("assumed_friction", self.assumed_friction)
         if self.estimator not in FILTERS:
             raise InputError("estimator", self.estimator, "one of: " + ", ".join(FILTERS))
         lat = self.latency

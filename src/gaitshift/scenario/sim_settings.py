@@ -22,6 +22,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, Strict
 
+from gaitshift.errors import InputError
 from gaitshift.scenario.fields import StrictModel
 
 #: what the controller sees: the estimator's state, or the simulator's truth
@@ -36,6 +37,15 @@ NOISE_SCALE_RANGE = (0.0, 1000.0)
 LATENCY_RANGE = (0, 50)
 #: mass scale factor of the simulated robot, inclusive (the simulator checks the same range)
 MASS_SCALE_RANGE = (0.25, 4.0)
+
+
+def check_friction(field: str, mu: Any) -> None:
+    """:class:`~gaitshift.errors.InputError` unless ``mu`` is None or a friction coefficient in
+    :data:`FRICTION_RANGE` (the floor's ``friction``, the controller's ``assumed_friction``)."""
+    lo, hi = FRICTION_RANGE
+    if mu is not None and (isinstance(mu, bool) or not isinstance(mu, int | float) or not lo <= mu <= hi):
+        raise InputError(field, mu, f"a friction coefficient in [{lo}, {hi}]")
+
 
 Friction = Annotated[float, Strict(), Field(ge=FRICTION_RANGE[0], le=FRICTION_RANGE[1], allow_inf_nan=False)]
 

@@ -37,7 +37,7 @@ from gaitshift.errors import InputError
 from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig
 from gaitshift.robots.model import robot_model
-from gaitshift.scenario.sim_settings import FRICTION_RANGE
+from gaitshift.scenario.sim_settings import check_friction
 from gaitshift.sim.bumps import Bump, check_bumps
 from gaitshift.sim.estimation_metrics import sensing_metrics
 from gaitshift.sim.latency import CommandDelay
@@ -127,14 +127,7 @@ class SimOptions:
 
     def __post_init__(self) -> None:
         self.controller_settings()  # the controller's keys, checked
-        if self.friction is not None and (
-            isinstance(self.friction, bool)
-            or not isinstance(self.friction, int | float)
-            or not FRICTION_RANGE[0] <= self.friction <= FRICTION_RANGE[1]
-        ):
-            raise InputError(
-                "friction", self.friction, f"a friction coefficient in [{FRICTION_RANGE[0]}, {FRICTION_RANGE[1]}]"
-            )
+        check_friction("friction", self.friction)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise InputError("seed", self.seed, "an integer >= 0")
         CommandDelay.check(self.latency)
