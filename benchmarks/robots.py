@@ -17,7 +17,7 @@ import numpy as np
 from gaitshift.api import plan
 from gaitshift.robots import RobotConfig, load_robot
 from gaitshift.robots.statics import standing_statics
-from gaitshift.sim.loop import SimOptions, simulate
+from gaitshift.sim.scenario_run import simulate_scenario
 from gaitshift.trajectory.contract import Trajectory
 from gaitshift.wholebody.ik import IKInfeasibleError, IKSettings, WholeBodyIK
 from gaitshift.wholebody.scaling import scale_scenario
@@ -52,7 +52,7 @@ def run(name: str, scenario: str) -> dict[str, object]:
             row["speed_frac"] = f"{frac[k]:.2f} ({robot.joint_names[k]})"
     except IKInfeasibleError as exc:
         row["ik"] = str(exc)
-    res = simulate(traj, SimOptions(state="oracle"), robot=robot)  # the table is on the truth (docs)
+    res = simulate_scenario(sc, robot, state="oracle").result  # the table is on the truth (docs)
     m = res.metrics
     row.update(leg_saturation(res.arrays, traj, robot))
     strides = np.diff(traj.footsteps[:, 0])
