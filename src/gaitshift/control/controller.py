@@ -116,8 +116,9 @@ class Controller:
         self.last_info = TickInfo()  # the last solve: the stance soles' CoP (commanded_cop)
         self.source = s.state or ("estimated" if robot.imu_site is not None else "oracle")
         profile = noise_profile(s.noise).scaled(float(s.noise_scale))
+        oracle = self.source == "oracle"
         self.state = ControllerState(
-            robot, self.q0, profile, self.source == "oracle", s.estimator, s.latency, s.assumed_friction
+            robot, self.q0, profile, oracle, s.estimator, s.latency, s.assumed_friction, s.contact
         )
         self.record: TickRecord | None = None
 
@@ -234,7 +235,7 @@ class Controller:
         view = self.state.observe(frame, planned)
         i = self._plan_index(tp, view)
         tau, ref, info = self._control(tp, i, view)
-        self.state.predictor.sent(info.qdd)
+        self.state.sent(info.qdd)
         rec = TickRecord(tp, i, ref, info, self.shift.shift.copy(), self.traj.contact[i], self.state.record)
         self.record = rec
         return MotorCommand.torque(tau)

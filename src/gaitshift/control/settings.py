@@ -19,7 +19,10 @@ from gaitshift.scenario.sim_settings import (
     check_friction,
 )
 
-__all__ = ["ControllerSettings"]
+__all__ = ["CONTACT_SOURCES", "ControllerSettings"]
+
+#: where the contact detector's sole forces come from
+CONTACT_SOURCES = ("force", "torque")
 
 
 @dataclass(frozen=True)
@@ -39,6 +42,8 @@ class ControllerSettings:
         assumed_friction: the friction assumed at start (None: the conservative default).
         latency: ticks between a frame and its command acting on the robot, compensated by prediction
             (:mod:`gaitshift.control.state`, eq. (1)); 0: none.
+        contact: the contact detector's sole forces: ``"force"`` (the robot's foot-force sensors) or
+            ``"torque"`` (from the motors' torques, :mod:`gaitshift.control.estimation.torque_contact`).
     """
 
     gains: Gains | None = None
@@ -52,6 +57,7 @@ class ControllerSettings:
     estimator: str = "inekf"
     assumed_friction: float | None = None
     latency: int = 0
+    contact: str = "force"
 
     def __post_init__(self) -> None:
         if self.state is not None and self.state not in STATE_SOURCES:
@@ -61,6 +67,8 @@ class ControllerSettings:
         number_in("noise_scale", self.noise_scale, NOISE_SCALE_RANGE)
         number_in("settle", self.settle, (0.0, 60.0), " s")
         check_friction("assumed_friction", self.assumed_friction)
+        if self.contact not in CONTACT_SOURCES:
+            raise InputError("contact", self.contact, "one of: " + ", ".join(CONTACT_SOURCES))
         if self.estimator not in FILTERS:
             raise InputError("estimator", self.estimator, "one of: " + ", ".join(FILTERS))
         lat = self.latency

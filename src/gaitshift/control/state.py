@@ -41,6 +41,7 @@ import numpy as np
 from gaitshift.control.estimation import GyroCalibration, StateEstimator
 from gaitshift.control.estimation.contact import noise_thresholds
 from gaitshift.control.estimation.noise import NoiseProfile
+from gaitshift.control.estimation.torque_contact import TorqueContact
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
 from gaitshift.control.frames import SensorFrame
@@ -62,6 +63,9 @@ START_TILT_STD = 1e-3
 #: samples of the moving average of the sole forces; the thresholds follow from the force noise
 #: (gaitshift.control.estimation.contact.noise_thresholds: 4 and 1.5 std of the averaged noise)
 CONTACT_WINDOW = 2
+#: std of the torque-derived sole force (eq. (2) of gaitshift.control.estimation.torque_contact) against
+#: the true normal force, a fraction of the weight per sample: measured on g1-walk-run-walk (docs/estimation.md)
+TORQUE_FORCE_STD = 0.02
 
 
 @dataclass(frozen=True)
@@ -151,6 +155,9 @@ class ControllerState:
         oracle: act on the frame's oracle state instead of the estimate.
         estimator: base filter name; latency: ticks between a frame and its command acting.
         assumed_friction: the friction assumed at start (None: :data:`DEFAULT_ASSUMED_FRICTION`).
+        contact: where the sole forces of the contact detector come from: ``"force"`` (the frame's
+            ``foot_force``) or ``"torque"`` (the motors' torques,
+            :mod:`~gaitshift.control.estimation.torque_contact`).
     """
 
     def __init__(
@@ -162,6 +169,7 @@ class ControllerState:
         estimator: str,
         latency: int,
         assumed_friction: float | None,
+        contact: str = "force",
     ) -> None:
         m = robot.model
         self.robot, self.oracle = robot, oracle
@@ -174,13 +182,17 @@ class ControllerState:
         self._slip_prev = np.zeros(2, bool)
         self.oracle_slip = OracleSlip(robot.dt)
         self.estimator: StateEstimator | None = None
+        self.torque_contact: TorqueContact | None = None
+        self.last_qdd: np.ndarray | None = None
         self.record: EstimateRecord | None = None
         self.ticks = 0
         if robot.imu_site is None:  # no IMU in the model: the truth only, and no estimate
             if not oracle:
                 raise InputError("state", "estimated", "oracle: the robot's model has no IMU site")
             return
-        on, off = noise_thresholds(profile.force, CONTACT_WINDOW)
+        self.torque_contact = TorqueContact(robot) if contact == "torque" else None
+        force_std = TORQUE_FORCE_STD if self.torque_contact is not None else profile.force
+        on, off = noise_thresholds(force_std, CONTACT_WINDOW)
         self.estimator = StateEstimator.from_robot(
             robot.robot,
             robot.dt,
@@ -221,13 +233,7 @@ class ControllerState:
         else:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
             joints = JointReading(q=frame.q, qd=frame.dq)
-            if frame.foot_force is None:
-                raise InputError(
-                    "SensorFrame.foot_force",
-                    None,
-                    "the sole normal forces, N (the estimator's contact detector reads them)",
-                )
-            forces = FootForces(normal=frame.foot_force)
+            forces = FootForces(normal=self._sole_forces(frame))
             t0 = time.perf_counter()
             s = self.estimator.step(imu, joints, forces, planned)
             cost = 1e6 * (time.perf_counter() - t0)
@@ -243,6 +249,21 @@ class ControllerState:
             com, com_vel = c.subtree_com[0].copy(), c.subtree_linvel[0].copy()
         self.record = EstimateRecord(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
         return view
+
+    def _sole_forces(self, frame: SensorFrame) -> np.ndarray:
+        """The sole normal forces (2,) N the contact detector reads: the frame's foot force, or eq. (2)
+        of :mod:`~gaitshift.control.estimation.torque_contact` on the last tick's state."""
+        if self.torque_contact is not None:
+            return self.torque_contact.normal_forces(self.cdata, frame.tau_est, self.last_qdd)
+        if frame.foot_force is None:
+            allowed = "the sole normal forces, N (or a controller with contact='torque')"
+            raise InputError("SensorFrame.foot_force", None, allowed)
+        return frame.foot_force
+
+    def sent(self, qdd: np.ndarray | None) -> None:
+        """The command just sent planned the accelerations ``qdd`` (nv,) (None: the QP failed)."""
+        self.predictor.sent(qdd)
+        self.last_qdd = None if qdd is None else np.asarray(qdd, float)
 
     def _oracle(self, frame: SensorFrame) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         o = frame.oracle

@@ -66,6 +66,7 @@ CONTROLLER_KEYS = (
     "noise_scale",
     "estimator",
     "assumed_friction",
+    "contact",
 )
 
 
@@ -95,6 +96,9 @@ class SimOptions:
             half-width (:mod:`gaitshift.sim.perturb`; estimated state only).
         bumps: boxes on the floor of the simulated world only (:mod:`gaitshift.sim.bumps`; ignored
             when ``simulate`` is given a ``plant``).
+        contact: the controller's contact sensing: ``"force"`` (the robot has sole force sensors) or
+            ``"torque"`` (it has none: the world reports no foot force and the controller finds the
+            sole forces from the motors' torques, :mod:`gaitshift.control.estimation.torque_contact`).
 
     The actuation delay is ``latency``: one setting for the sensing-to-actuation delay of the loop
     (:mod:`gaitshift.sim.latency`), not a second one.
@@ -124,6 +128,7 @@ class SimOptions:
     mass_scale: float = 1.0
     joint_vel_noise: float = 0.0
     bumps: tuple[Bump, ...] = ()
+    contact: str = "force"
 
     def __post_init__(self) -> None:
         self.controller_settings()  # the controller's keys, checked

@@ -122,7 +122,7 @@ class World:
             q=r.joints.q[self.motor_q],
             dq=r.joints.qd[self.motor_v],
             tau_est=d.actuator_force.copy(),
-            foot_force=r.forces.normal,
+            foot_force=r.forces.normal if self.opts.contact == "force" else None,
             oracle=self._truth() if self.oracle else None,
         )
 
