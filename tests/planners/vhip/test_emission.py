@@ -22,7 +22,7 @@ def _plan(n=30):
     zdd = np.where(phase == FLIGHT, -G, 0.4)
     z = 0.8 + 0.01 * t
     write_segment(buf, 0, c, (z, np.full(n, 0.01), zdd), np.c_[c[:, 0], -c[:, 1]], phase, contact_of(phase, 0))
-    feet = FootTracks({0: np.array([0.0, 0.1, 0.0]), 1: np.array([0.0, -0.1, 0.0])}, 0.05)
+    feet = FootTracks({0: np.array([0.0, 0.1, 0.0]), 1: np.array([0.0, -0.1, 0.0])}, 0.05, DT)
     return buf, feet, c, z, zdd, phase
 
 

@@ -1,8 +1,8 @@
 """Writing committed steps into the sample buffer: the CoM by closed forms, the feet by their swings.
 
 :class:`StepWriter` owns the look-ahead buffer (:class:`~gaitshift.planners.streaming.buffer.SampleBuffer`
-of :data:`~.samples.FIELDS`), the two foot tracks (:class:`~.feet.FootTrack`), the list of footholds
-landed on and the CoM state at the end of the last step written. Every step is written whole when it
+of :data:`~.samples.FIELDS`), the two foot tracks (:class:`~gaitshift.gait.swing_track.FootTrack`), the
+list of footholds landed on and the CoM state at the end of the last step written. Every step is written whole when it
 is committed (and again from the re-plan sample on after a re-plan): the step's end state is
 computed at once (the next plan starts from it), its rows lazily, one phase segment at a time, when
 emission (or a re-plan) first needs them. A planning instant thus costs the solve alone, and the
@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from gaitshift.gait.swing_track import FootTrack, Swing
 from gaitshift.models.arrays import FloatArray
-from gaitshift.planners.locomotion.feet import FootTrack, Swing
 from gaitshift.planners.locomotion.planner import Plan, is_start, touchdown_offset
 from gaitshift.planners.locomotion.record import StepRecord
 from gaitshift.planners.locomotion.samples import FIELDS

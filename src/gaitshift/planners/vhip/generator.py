@@ -200,7 +200,8 @@ class VhipGenerator(StreamingGenerator):
         measured (x, y) position and velocity with eq. (9') to that take-off, then the step after it
         is planned again by Algorithm 1 (new foothold, same take-off speed target unless the stride
         limits need a different one: then clamped within max_accel_per_step and reported). A swing
-        foot already in the air is redirected from where it is. Only while running.
+        foot already in the air is redirected from where it is, keeping its position, velocity and
+        acceleration (:mod:`.swings`). Only while running.
 
         Raises:
             InputError: non-finite measurement. InfeasibleError: not running.

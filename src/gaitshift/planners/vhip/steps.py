@@ -56,7 +56,7 @@ class StepPlanner:
         self.sc, self.h, self.events = sc, h, events
         self.first = LEFT if sc.first_support == "left" else RIGHT
         d = 0.5 * h.width
-        self.feet = FootTracks({LEFT: np.array([0.0, d, 0.0]), RIGHT: np.array([0.0, -d, 0.0])}, sc.swing_apex)
+        self.feet = FootTracks({LEFT: np.array([0.0, d, 0.0]), RIGHT: np.array([0.0, -d, 0.0])}, sc.swing_apex, h.dt)
         self.buf = plan_buffer()
         self.footholds: list[tuple[FloatArray, int]] = [
             (self.feet.home[LEFT][:2].copy(), LEFT),
