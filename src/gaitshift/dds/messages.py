@@ -10,6 +10,7 @@ accelerations m/s^2, temperatures degC, voltages V. Arrays have fixed lengths: a
 ``LowState_`` carry 35 motor slots (:data:`N_SLOTS`), of which the 29-DoF G1 uses the first 29.
 """
 
+# no ``from __future__ import annotations`` here: cyclonedds reads the field annotations as objects
 from dataclasses import dataclass, field
 
 import cyclonedds.idl.annotations as annotate
