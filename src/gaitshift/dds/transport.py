@@ -14,6 +14,7 @@ from typing import Any
 from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
+from cyclonedds.qos import Policy, Qos
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 from cyclonedds.util import duration
@@ -36,6 +37,9 @@ LOWSTATE_TOPIC = "rt/lowstate"
 #: the largest domain id CycloneDDS maps onto UDP ports
 DOMAIN_MAX = 232
 LOOPBACK = ("lo", "lo0", "127.0.0.1")
+#: the reader keeps this many samples between two takes (the default keeps one: the newest), so that every
+#: message received is seen and counted; the writer keeps a few for retransmission
+READER_DEPTH, WRITER_DEPTH = 64, 8
 
 
 def cyclone_config(iface: str) -> str:
@@ -96,8 +100,8 @@ def open_endpoint(domain: int, iface: str, side: str) -> Endpoint:
     cmd = Topic(participant, LOWCMD_TOPIC, LowCmd_)
     state = Topic(participant, LOWSTATE_TOPIC, LowState_)
     out, inp = (state, cmd) if side == "robot" else (cmd, state)
-    writer: Any = DataWriter(participant, out)
-    reader: Any = DataReader(participant, inp)
+    writer: Any = DataWriter(participant, out, qos=Qos(Policy.History.KeepLast(WRITER_DEPTH)))
+    reader: Any = DataReader(participant, inp, qos=Qos(Policy.History.KeepLast(READER_DEPTH)))
     condition = ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.NotRead)
     waitset = WaitSet(participant)
     waitset.attach(condition)
