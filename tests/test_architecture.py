@@ -46,6 +46,7 @@ LAYERS: dict[str, int] = {
     "wholebody": 7,
     "control": 8,
     "sim": 9,
+    "dds": 9,  # a world like sim: the MuJoCo world behind Unitree's low-level protocol
     "plots": 10,
     "bench": 10,
     "export": 10,

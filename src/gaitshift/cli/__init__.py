@@ -23,7 +23,7 @@ from gaitshift.cli.app import app
 from gaitshift.errors import GaitshiftError, InputError
 
 #: Command modules, in help order. Each is ``gaitshift.cli.<name>``.
-COMMAND_MODULES = ("core", "vhip", "robot", "sim", "export", "slip", "bench", "campaign")
+COMMAND_MODULES = ("core", "vhip", "robot", "sim", "export", "slip", "bench", "campaign", "dds")
 
 
 def _load_commands() -> None:

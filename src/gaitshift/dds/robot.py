@@ -1,0 +1,245 @@
+"""The robot process: gaitshift's MuJoCo world (:class:`~gaitshift.sim.world.World` on the plant of
+:func:`~gaitshift.sim.plant.build_plant`) behind Unitree's low-level protocol, a stand-in for a G1.
+
+Every control period ``dt`` (the physics step, 2 ms)::
+
+    world.observe(k)                       the truth: the fall test, the pelvis position
+    state = lowstate_from_frame(...)       the world's SensorFrame as a LowState_ (tick = k), the CRC set
+    endpoint.writer.write(state)           rt/lowstate
+    take rt/lowcmd                         every LowCmd_ received: counted; a bad CRC or a bad field dropped
+    world.apply(command)                   tau + kp (q_des - q) + kd (dq_des - dq) per motor
+    world.step()
+
+The command applied is the newest valid one; when none has come for ``damping_after`` s (or none yet) the
+motors damp: ``kp = 0``, ``kd = damping_kd``, ``tau = 0``. Pacing: real time by default (tick k at
+``t0 + k dt`` on the wall clock; ticks that start late are counted); with ``lockstep`` the world steps only
+when a valid command has arrived after the state of the tick was written (the state is written again every
+``resend`` s of wall time meanwhile), so the controller may take its time. The run ends after ``duration``
+s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary either way).
+"""
+
+import math
+import signal
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from gaitshift.control.frames import MotorCommand
+from gaitshift.dds.convert import command_from_lowcmd, lowstate_from_frame
+from gaitshift.dds.g1 import check_motor_order
+from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint
+from gaitshift.errors import InputError, number_in
+from gaitshift.robots.model import standing_qpos
+from gaitshift.sim.loop import SimOptions
+from gaitshift.sim.plant import build_plant
+from gaitshift.sim.world import World
+
+__all__ = ["RobotOptions", "RobotSummary", "run_robot"]
+
+
+@dataclass(frozen=True)
+class RobotOptions:
+    """Options of the robot process (module docstring).
+
+    Attributes:
+        robot: built-in robot name or YAML (its motors must be the hg slots in order: the G1).
+        domain: DDS domain id (1: Unitree's simulator default; 0 is the real robot's network).
+        iface: network interface (``lo``: nothing leaves the machine).
+        duration: simulated seconds to run, or None: until SIGINT/SIGTERM.
+        lockstep: step only when a command for the last state has arrived (else real time).
+        damping_after: s without a valid command before the motors damp.
+        damping_kd: N m s/rad, the damping gain.
+        mode_machine: the hardware variant reported in every LowState_.
+        noise: the world's sensor noise profile (``none``, ``typical``, ``rl-peer``).
+        resend: lockstep only: s of wall time between repeats of the state while no command comes.
+        control_period: s, the physics step and the period of the states.
+    """
+
+    robot: str = "g1"
+    domain: int = 1
+    iface: str = "lo"
+    duration: float | None = None
+    lockstep: bool = False
+    damping_after: float = 0.1
+    damping_kd: float = 2.0
+    mode_machine: int = 0
+    noise: str = "none"
+    resend: float = 0.02
+    control_period: float = 0.002
+
+    def __post_init__(self) -> None:
+        check_domain(self.domain)
+        if self.duration is not None:
+            number_in("--duration", self.duration, (0.0, 1e6), "s")
+        number_in("--damping-after", self.damping_after, (0.0, 60.0), "s")
+        number_in("--damping-kd", self.damping_kd, (0.0, 100.0), "N m s/rad")
+        number_in("--resend", self.resend, (1e-3, 10.0), "s")
+        if isinstance(self.mode_machine, bool) or not isinstance(self.mode_machine, int):
+            raise InputError("--mode-machine", self.mode_machine, "an integer in [0, 255]")
+        number_in("--mode-machine", self.mode_machine, (0, 255))
+
+
+@dataclass
+class RobotSummary:
+    """What the robot process did (written as JSON by ``gaitshift dds robot --summary``).
+
+    Attributes:
+        fell: the world's fall test fired; fall_time: s of simulated time at the first fall (NaN: none);
+        fall_reason: its reason. distance: m, horizontal pelvis displacement from the start.
+        sim_time: s simulated; ticks: physics steps; wall_time: s.
+        states_published: LowState_ written (repeats in lockstep included).
+        packets_received: LowCmd_ received; packets_dropped: of which dropped (a bad CRC or a bad field);
+        crc_rejects: of which dropped for their CRC. commands_applied: ticks driven by a received command;
+        damping_ticks: ticks in damping. late_ticks: real time only: ticks that started over a period late.
+        stopped_by: "duration" or the signal's name.
+    """
+
+    fell: bool = False
+    fall_time: float = math.nan
+    fall_reason: str = ""
+    distance: float = 0.0
+    sim_time: float = 0.0
+    ticks: int = 0
+    wall_time: float = 0.0
+    states_published: int = 0
+    packets_received: int = 0
+    packets_dropped: int = 0
+    crc_rejects: int = 0
+    commands_applied: int = 0
+    damping_ticks: int = 0
+    late_ticks: int = 0
+    stopped_by: str = ""
+    last_error: str = field(default="", repr=False)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The summary as plain values (NaN kept: callers write it with finite_json)."""
+        return asdict(self)
+
+
+class _Stop:
+    """SIGINT/SIGTERM set :attr:`why`; the previous handlers come back on :meth:`restore`."""
+
+    def __init__(self) -> None:
+        self.why = ""
+        self.previous = {s: signal.signal(s, self.handle) for s in (signal.SIGINT, signal.SIGTERM)}
+
+    def handle(self, signum: int, _frame: Any) -> None:
+        self.why = signal.Signals(signum).name
+
+    def restore(self) -> None:
+        for s, h in self.previous.items():
+            signal.signal(s, h)
+
+
+class _Robot:
+    """One run: the world, the endpoint, the newest valid command, the counters."""
+
+    def __init__(self, opts: RobotOptions, endpoint: Endpoint) -> None:
+        self.opts, self.endpoint = opts, endpoint
+        plant = build_plant(opts.control_period, opts.robot)
+        self.n = check_motor_order(plant.motor_names)
+        qpos0 = standing_qpos(plant)
+        self.world = World(plant, qpos0, SimOptions(control_period=opts.control_period, noise=opts.noise), False, 1)
+        self.dt = self.world.dt
+        self.start_xy = qpos0[:2].copy()
+        self.summary = RobotSummary()
+        self.command: MotorCommand | None = None
+        self.command_time = -math.inf  # s of simulated time when the command arrived
+        self.fresh = False  # a valid command arrived since the last state was written
+        self.state: Any = None  # the last LowState_ written
+        zero = np.zeros(self.n)
+        self.damping = MotorCommand(q=zero, dq=zero, kp=zero, kd=np.full(self.n, opts.damping_kd), tau=zero)
+
+    def publish(self, k: int) -> None:
+        """Observe tick ``k`` (the fall test) and write its state."""
+        why = self.world.observe(k)
+        if why is not None and not self.summary.fell:
+            self.summary.fell, self.summary.fall_time, self.summary.fall_reason = True, k * self.dt, why
+        self.state = lowstate_from_frame(self.world.sense(k), k, self.opts.mode_machine)
+        self.endpoint.writer.write(self.state)
+        self.summary.states_published += 1
+        self.fresh = False
+
+    def resend(self) -> None:
+        self.endpoint.writer.write(self.state)
+        self.summary.states_published += 1
+
+    def receive(self, t: float) -> None:
+        """Take every LowCmd_ received: count it, keep the newest valid one (arrival at sim time ``t``)."""
+        s = self.summary
+        for msg in self.endpoint.take():
+            s.packets_received += 1
+            try:
+                self.command = command_from_lowcmd(msg, self.n)
+            except InputError as e:
+                s.packets_dropped += 1
+                s.crc_rejects += e.field.endswith(".crc")
+                s.last_error = str(e)
+                continue
+            self.command_time, self.fresh = t, True
+
+    def act(self, k: int) -> None:
+        """Apply the command of tick ``k`` (damping when none is recent) and step the physics."""
+        t = k * self.dt
+        if self.command is not None and t - self.command_time <= self.opts.damping_after:
+            cmd, self.summary.commands_applied = self.command, self.summary.commands_applied + 1
+        else:
+            cmd, self.summary.damping_ticks = self.damping, self.summary.damping_ticks + 1
+        self.world.apply(cmd, k)
+        self.world.step()
+        self.summary.ticks = k + 1
+        self.summary.sim_time = (k + 1) * self.dt
+
+
+def _wait_for_command(robot: _Robot, k: int, stop: _Stop) -> bool:
+    """Lockstep: block until a valid command arrives for the state of tick ``k`` (the state written again
+    every ``resend`` s); False when stopped by a signal first."""
+    while not stop.why:
+        robot.receive(k * robot.dt)
+        if robot.fresh:
+            return True
+        if not robot.endpoint.wait(robot.opts.resend):
+            robot.resend()
+    return False
+
+
+def _pace(wall0: float, k: int, dt: float, summary: RobotSummary) -> float:
+    """Real time: sleep until tick ``k`` is due at ``wall0 + k dt``; the start time, moved on when more than
+    5 periods behind (no burst of catch-up ticks)."""
+    late = time.perf_counter() - (wall0 + k * dt)
+    if late < 0:
+        time.sleep(-late)
+    elif late > dt:
+        summary.late_ticks += 1
+        if late > 5 * dt:
+            wall0 += late
+    return wall0
+
+
+def run_robot(opts: RobotOptions, endpoint: Endpoint | None = None) -> RobotSummary:
+    """Run the robot process (module docstring) until ``opts.duration`` or SIGINT/SIGTERM."""
+    endpoint = endpoint or open_endpoint(opts.domain, opts.iface, "robot")
+    robot = _Robot(opts, endpoint)
+    stop = _Stop()
+    n_ticks = math.inf if opts.duration is None else round(opts.duration / robot.dt)
+    wall0 = start = time.perf_counter()
+    k = 0
+    try:
+        while k < n_ticks and not stop.why:
+            if not opts.lockstep:
+                wall0 = _pace(wall0, k, robot.dt, robot.summary)
+            robot.publish(k)
+            if opts.lockstep and not _wait_for_command(robot, k, stop):
+                break
+            robot.receive(k * robot.dt)
+            robot.act(k)
+            k += 1
+    finally:
+        stop.restore()
+        s = robot.summary
+        s.stopped_by = stop.why or "duration"
+        s.wall_time = time.perf_counter() - start
+        s.distance = float(np.linalg.norm(robot.world.d.qpos[:2] - robot.start_xy))
+    return robot.summary

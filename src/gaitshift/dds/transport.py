@@ -1,0 +1,109 @@
+"""The DDS side of the low-level protocol: one CycloneDDS participant on one network interface, the two
+topics (``rt/lowcmd``: :class:`~gaitshift.dds.messages.LowCmd_`, ``rt/lowstate``:
+:class:`~gaitshift.dds.messages.LowState_`), and the wait for new samples.
+
+The participant talks on the interface it is given only (Unitree's SDK does the same with
+``ChannelFactoryInitialize(domain, interface)``). On the loopback ``lo`` (Unitree's simulator bridge's
+default, with domain 1) multicast is off and discovery goes to the unicast peer 127.0.0.1 only: nothing
+leaves the machine. Domain 0 is the real robot's network.
+"""
+
+from dataclasses import dataclass
+from typing import Any
+
+from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
+from cyclonedds.domain import Domain, DomainParticipant
+from cyclonedds.pub import DataWriter
+from cyclonedds.qos import Policy, Qos
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+from cyclonedds.util import duration
+
+from gaitshift.dds.messages import LowCmd_, LowState_
+from gaitshift.errors import InputError
+
+__all__ = [
+    "DOMAIN_MAX",
+    "LOWCMD_TOPIC",
+    "LOWSTATE_TOPIC",
+    "Endpoint",
+    "check_domain",
+    "cyclone_config",
+    "open_endpoint",
+]
+
+LOWCMD_TOPIC = "rt/lowcmd"
+LOWSTATE_TOPIC = "rt/lowstate"
+#: the largest domain id CycloneDDS maps onto UDP ports
+DOMAIN_MAX = 232
+LOOPBACK = ("lo", "lo0", "127.0.0.1")
+#: the reader keeps this many samples between two takes (the default keeps one: the newest), so that every
+#: message received is seen and counted; the writer keeps a few for retransmission
+READER_DEPTH, WRITER_DEPTH = 64, 8
+
+
+def cyclone_config(iface: str) -> str:
+    """The CycloneDDS XML configuration: ``iface`` only; on a loopback interface no multicast and the
+    unicast discovery peer 127.0.0.1."""
+    discovery = ""
+    multicast = ""
+    if iface in LOOPBACK:
+        multicast = "<AllowMulticast>false</AllowMulticast>"
+        discovery = (
+            "<Discovery><ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>30</MaxAutoParticipantIndex>"
+            '<Peers><Peer address="127.0.0.1"/></Peers></Discovery>'
+        )
+    return (
+        '<CycloneDDS><Domain Id="any"><General><Interfaces>'
+        f'<NetworkInterface name="{iface}" priority="default" multicast="default"/>'
+        f"</Interfaces>{multicast}</General>{discovery}</Domain></CycloneDDS>"
+    )
+
+
+@dataclass
+class Endpoint:
+    """A participant with one writer and one reader of the protocol's topics (which is which depends on
+    the side: the robot writes ``rt/lowstate`` and reads ``rt/lowcmd``, a controller the reverse)."""
+
+    participant: Any
+    kind: type
+    writer: Any
+    reader: Any
+    waitset: Any
+    condition: Any
+    domain: Any
+
+    def take(self, n: int = 64) -> list[Any]:
+        """The samples received since the last take (data only: no dispose or unregister notices), oldest first."""
+        return [s for s in self.reader.take(N=n) if isinstance(s, self.kind)]
+
+    def wait(self, seconds: float) -> bool:
+        """Block until a sample is there to take or ``seconds`` have passed; True when one is there."""
+        return bool(self.waitset.wait(duration(seconds=max(seconds, 0.0))))
+
+
+def check_domain(domain: int) -> int:
+    """``domain`` when it is a DDS domain id CycloneDDS supports; :class:`InputError` otherwise."""
+    if isinstance(domain, bool) or not isinstance(domain, int) or not 0 <= domain <= DOMAIN_MAX:
+        raise InputError("--domain", domain, f"an integer in [0, {DOMAIN_MAX}] (0: the real robot's network)")
+    return domain
+
+
+def open_endpoint(domain: int, iface: str, side: str) -> Endpoint:
+    """The :class:`Endpoint` of ``side`` ("robot" or "controller") on DDS ``domain`` over ``iface``."""
+    if side not in ("robot", "controller"):
+        raise InputError("side", side, "robot or controller")
+    if not iface or any(c in iface for c in "<>\"'&"):
+        raise InputError("--iface", iface, "a network interface name, e.g. lo or eth0")
+    dom = Domain(check_domain(domain), cyclone_config(iface))
+    participant = DomainParticipant(domain)
+    cmd = Topic(participant, LOWCMD_TOPIC, LowCmd_)
+    state = Topic(participant, LOWSTATE_TOPIC, LowState_)
+    out, inp = (state, cmd) if side == "robot" else (cmd, state)
+    writer: Any = DataWriter(participant, out, qos=Qos(Policy.History.KeepLast(WRITER_DEPTH)))
+    reader: Any = DataReader(participant, inp, qos=Qos(Policy.History.KeepLast(READER_DEPTH)))
+    condition = ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.NotRead)
+    waitset = WaitSet(participant)
+    waitset.attach(condition)
+    kind = LowCmd_ if side == "robot" else LowState_
+    return Endpoint(participant, kind, writer, reader, waitset, condition, dom)

@@ -1,0 +1,135 @@
+"""The robot process ``gaitshift dds robot`` talks the protocol between two real processes on the loopback
+(a fresh DDS domain per test, derived from the pytest worker's pid; the loopback configuration sends nothing
+elsewhere): in lockstep it answers every command with the next state (tick counting up, the CRC right),
+steps once per valid command, drops and counts commands with a bad CRC, and a PD hold of the standing
+pose moves the robot as the same hold does in-process without DDS (to float32 rounding); in real time it
+damps without commands and writes its summary on SIGTERM."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from gaitshift.control.frames import MotorCommand
+from gaitshift.dds.convert import frame_from_lowstate, lowcmd_from_command
+from gaitshift.dds.crc import lowstate_crc
+from gaitshift.dds.transport import open_endpoint
+
+N = 29
+#: each test its own domain: pid-derived base (100..199) plus the test's offset (0..29)
+BASE_DOMAIN = 100 + os.getpid() % 100
+
+
+def start_robot(domain, tmp_path, *flags):
+    summary = tmp_path / "summary.json"
+    code = "from gaitshift.cli import main; main()"
+    argv = [sys.executable, "-c", code, "dds", "robot", "g1", "--domain", str(domain), "--iface", "lo"]
+    log = open(tmp_path / "robot.log", "w")  # noqa: SIM115 (closed with the process)
+    env = {**os.environ, "MUJOCO_GL": "egl"}
+    proc = subprocess.Popen([*argv, "--summary", str(summary), *flags], stdout=log, stderr=subprocess.STDOUT, env=env)
+    return proc, summary, log
+
+
+def finish(proc, log, timeout=60.0):
+    try:
+        proc.wait(timeout=timeout)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        log.close()
+
+
+def hold(frame, q0):
+    """A PD hold of the pose ``q0``: kp 150 N m/rad, kd 4 N m s/rad."""
+    return MotorCommand(q=q0, dq=np.zeros(N), kp=np.full(N, 150.0), kd=np.full(N, 4.0), tau=np.zeros(N))
+
+
+def in_process_distance(n_ticks):
+    """The same PD hold in the same world without DDS (targets rounded to float32 as on the wire): the
+    pelvis's horizontal displacement, m, after ``n_ticks``."""
+    from gaitshift.robots.model import standing_qpos
+    from gaitshift.sim.loop import SimOptions
+    from gaitshift.sim.plant import build_plant
+    from gaitshift.sim.world import World
+
+    plant = build_plant(0.002, "g1")
+    qpos0 = standing_qpos(plant)
+    world = World(plant, qpos0, SimOptions(noise="none"), False, 1)
+    q0 = None
+    for k in range(n_ticks):
+        world.observe(k)
+        frame = world.sense(k)
+        q0 = frame.q.astype(np.float32).astype(float) if q0 is None else q0
+        world.apply(hold(frame, q0), k)
+        world.step()
+    return float(np.linalg.norm(world.d.qpos[:2] - qpos0[:2]))
+
+
+def test_lockstep_answers_each_command_counts_bad_crcs_and_holds_the_robot_up(tmp_path):
+    domain = BASE_DOMAIN + 0
+    controller = open_endpoint(domain, "lo", "controller")
+    proc, summary_path, log = start_robot(domain, tmp_path, "--lockstep", "--duration", "0.2")
+    ticks, q0, bad_sent, good_sent = [], None, 0, 0
+    deadline = time.monotonic() + 90.0
+    try:
+        while proc.poll() is None and time.monotonic() < deadline:
+            if not controller.wait(0.05):
+                continue
+            for state in controller.take():
+                assert state.crc == lowstate_crc(state)
+                frame = frame_from_lowstate(state, state.tick * 0.002, N)
+                q0 = frame.q if q0 is None else q0
+                ticks.append(state.tick)
+                cmd = lowcmd_from_command(hold(frame, q0), state.mode_machine)
+                if bad_sent < 5 and state.tick >= 10 and state.tick % 10 == 0 and ticks.count(state.tick) == 1:
+                    cmd.crc ^= 0x5A5A  # corrupted: the robot must drop it and keep waiting
+                    controller.writer.write(cmd)
+                    bad_sent += 1
+                    continue
+                controller.writer.write(cmd)
+                good_sent += 1
+    finally:
+        finish(proc, log)
+    assert proc.returncode == 0, (tmp_path / "robot.log").read_text()
+    s = json.loads(summary_path.read_text())
+    assert s["ticks"] == 100 and s["sim_time"] == pytest.approx(0.2)
+    assert s["crc_rejects"] == bad_sent == 5 and s["packets_dropped"] == 5
+    # every tick needs a valid command; an answer to a repeated state may be one more, or lost before matching
+    assert 100 + 5 <= s["packets_received"] <= good_sent + bad_sent
+    assert s["commands_applied"] == 100 and s["damping_ticks"] == 0
+    assert not s["fell"]
+    # the protocol adds nothing but float32 rounding: the run matches the in-process one
+    assert s["distance"] == pytest.approx(in_process_distance(100), abs=1e-6)
+    assert sorted(set(ticks)) == list(range(100))  # one state per tick, each answered
+
+
+def test_real_time_damps_without_commands_and_writes_the_summary_on_sigterm(tmp_path):
+    domain = BASE_DOMAIN + 1
+    controller = open_endpoint(domain, "lo", "controller")
+    proc, summary_path, log = start_robot(domain, tmp_path, "--damping-kd", "3")
+    seen = 0
+    deadline = time.monotonic() + 60.0
+    try:
+        while seen < 50 and proc.poll() is None and time.monotonic() < deadline:
+            if controller.wait(0.05):
+                seen += len(controller.take())
+        bad = lowcmd_from_command(MotorCommand.torque(np.zeros(N)), 0)
+        bad.crc ^= 1
+        for _ in range(3):
+            controller.writer.write(bad)
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGTERM)
+    finally:
+        finish(proc, log)
+    assert seen >= 50
+    assert proc.returncode == 0, (tmp_path / "robot.log").read_text()
+    s = json.loads(summary_path.read_text())
+    assert s["stopped_by"] == "SIGTERM"
+    assert s["crc_rejects"] == s["packets_received"] == 3 and s["commands_applied"] == 0
+    assert s["damping_ticks"] == s["ticks"] >= 50 and s["states_published"] >= s["ticks"]
