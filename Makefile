@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml Makefile
 	test -x $(BIN)/python || $(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[all]'
-	# test oracle only (tests/dds/oracle.py), never a runtime dependency: Unitree's SDK wheel, no deps
+	# test oracle only (tests/unitree_oracle.py), never a runtime dependency: Unitree's SDK wheel, no deps
 	$(BIN)/python -m pip install --quiet --no-deps --upgrade --target $(VENV)/oracle unitree-sdk2==1.0.1
 	touch $(STAMP)
 
