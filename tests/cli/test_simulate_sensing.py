@@ -15,7 +15,14 @@ from gaitshift.scenario.loader import builtin_text
 
 @pytest.mark.parametrize(
     ("flag", "value"),
-    [("--state", "truth"), ("--noise", "loud"), ("--noise-scale", "-1"), ("--latency", "99"), ("--friction", "0")],
+    [
+        ("--state", "truth"),
+        ("--noise", "loud"),
+        ("--noise-scale", "-1"),
+        ("--latency", "99"),
+        ("--friction", "0"),
+        ("--contact", "feelers"),
+    ],
 )
 def test_a_bad_sensing_flag_is_one_line_naming_it_and_exit_2(cli, tmp_path, flag, value):
     out = tmp_path / "o.npz"

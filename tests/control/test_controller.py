@@ -125,3 +125,18 @@ def test_no_module_of_control_imports_the_simulation_or_steps_physics():
         assert not [n for n in names if n.startswith(("gaitshift.sim", "gaitshift.cli", "gaitshift.campaign"))], path
         calls = {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
         assert not calls & {"mj_step", "mj_step1", "mj_step2", "mj_contactForce"}, path
+
+
+def test_a_controller_with_torque_contact_ticks_on_frames_without_foot_force():
+    """The robot without sole force sensors: the frame carries none, and the controller reads its sole
+    forces from the motors' torques; one with force contact refuses such a frame, naming the field."""
+    c = Controller.from_scenario("g1-walk", contact="torque")
+    frame = _rest_frame(c)
+    bare = SensorFrame(**{**frame.__dict__, "foot_force": None})
+    for k in range(3):
+        cmd = c.tick(SensorFrame(**{**bare.__dict__, "t": k * c.period}))
+        assert np.all(np.isfinite(cmd.tau))
+    f = Controller.from_scenario("g1-walk")
+    f.tick(frame)
+    with pytest.raises(InputError, match=r"SensorFrame\.foot_force"):
+        f.tick(SensorFrame(**{**bare.__dict__, "t": c.period}))

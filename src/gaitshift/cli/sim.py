@@ -50,6 +50,11 @@ def simulate_cmd(
         None, "--latency", help="Loop latency = actuation delay, ticks (sensing + actuation, one setting; 0)."
     ),
     friction: float | None = typer.Option(None, "--friction", help="The floor's friction coefficient."),
+    contact: str | None = typer.Option(
+        None,
+        "--contact",
+        help="Contact sensing: force (sole force sensors; default) or torque (from the motors' torques).",
+    ),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
     rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
     video_size: str | None = typer.Option(None, "--video-size", help="Video size WIDTHxHEIGHT, pixels (1280x720)."),
@@ -65,7 +70,7 @@ def simulate_cmd(
     from gaitshift.sim.scenario_run import prepare, run_prepared
 
     sensing: dict[str, Any] = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency}
-    sensing |= {"friction": friction, "mass_scale": mass_scale, "joint_vel_noise": joint_vel_noise}
+    sensing |= {"friction": friction, "mass_scale": mass_scale, "joint_vel_noise": joint_vel_noise, "contact": contact}
     flags = sensing_flags(out, video, None, rerun, seed=seed, video_size=video_size, video_fps=video_fps, **sensing)
     pushes_given, bumps = perturbation_flags(push, bump)
     if figures is not None:

@@ -7,6 +7,6 @@ friction belief, its own ``MjData``), :mod:`initial_pose` (the pose the plan sta
 (whole-body inverse-dynamics QP), :mod:`schedule` (foot stance/swing state machine and force caps),
 :mod:`feedback` (capture-point step feedback and plan shift), :mod:`reference` (the tick reference from
 plan + schedule + feedback), :mod:`plan_samples` (per-sample quantities derived from the plan),
-:mod:`drivers` (re-planning streaming plans from the measured CoM), :mod:`plant_view` (what the
-controller needs to know about the robot model), ``estimation/`` (the state estimator).
+:mod:`drivers` (re-planning streaming plans from the measured CoM), ``estimation/`` (the state
+estimator). The robot model it holds is :class:`gaitshift.robots.model.RobotModel`.
 """

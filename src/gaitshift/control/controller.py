@@ -302,4 +302,4 @@ class Controller:
 
 
 #: the keys of a scenario's ``sim:`` block that configure the controller (the rest configure the world)
-_SCENARIO_KEYS = ("state", "noise", "noise_scale", "assumed_friction", "latency")
+_SCENARIO_KEYS = ("state", "noise", "noise_scale", "assumed_friction", "latency", "contact")

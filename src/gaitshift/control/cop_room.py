@@ -58,7 +58,7 @@ class CopRoom:
 
     @classmethod
     def from_plant(cls, plant: Any, data: Any, half: tuple[float, float]) -> CopRoom:
-        """Eqs. (1)-(2) for the left sole of ``plant`` (a :class:`~gaitshift.control.plant_view.PlantView`)
+        """Eqs. (1)-(2) for the left sole of ``plant`` (a :class:`~gaitshift.robots.model.RobotModel`)
         in the state of ``data`` (``mj_forward`` done; the standing pose), its motors' limits
         ``plant.torque_limit``; ``half`` (2,) m the plan's sole half sizes."""
         import mujoco

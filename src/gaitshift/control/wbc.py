@@ -46,11 +46,11 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from gaitshift.control.plant_view import PlantView
 from gaitshift.control.qp_layout import QpLayout, StanceTerms
 from gaitshift.control.qp_terms import INF, SKEW_BASIS, quat_yaw_error, rotation_error, solve_qp
 from gaitshift.control.wbc_data import Gains, TickInfo, TickReference
 from gaitshift.control.wrench_cone import SoleCone
+from gaitshift.robots.model import RobotModel
 
 __all__ = ["Gains", "TickInfo", "TickReference", "WholeBodyController", "rotation_error"]
 
@@ -73,12 +73,12 @@ class WholeBodyController:
     """Inverse-dynamics QP for a floating-base robot with two multi-point soles (see module docstring).
 
     Args:
-        plant: the compiled plant (anything with the attributes of :class:`PlantView`).
+        plant: the controller's robot model (:class:`~gaitshift.robots.model.RobotModel`).
         posture: reference joint positions (nq,) (only the hinge entries are used).
         gains: task weights and gains.
     """
 
-    def __init__(self, plant: PlantView, posture: np.ndarray, gains: Gains | None = None) -> None:
+    def __init__(self, plant: RobotModel, posture: np.ndarray, gains: Gains | None = None) -> None:
         self.plant = plant
         self.gains = gains or Gains()
         m = plant.model

@@ -86,6 +86,7 @@ class SimSettings(StrictModel):
     joint_vel_noise: Annotated[float, Strict(), Field(ge=0, le=100, allow_inf_nan=False)] | None = None
     pushes: list[PushSettings] | None = None
     bumps: list[BumpSettings] | None = None
+    contact: Literal["force", "torque"] | None = None
 
     def given(self) -> dict[str, Any]:
         """The keys set in the scenario, as ``SimOptions`` keyword arguments (``pushes`` and ``bumps``

@@ -4,9 +4,10 @@ The equations of motion of the floating-base robot (MuJoCo's convention) are
 
 .. math::
 
-    M(q) \\ddot q + b(q, \\dot q) = S^T \\tau + \\sum_i J_i(q)^T f_i                          (1)
+    M(q) \\ddot q + b(q, \\dot q) = S^T \\tau + p(q, \\dot q) + \\sum_i J_i(q)^T f_i                (1)
 
-with ``b`` the Coriolis, centrifugal and gravity forces (``qfrc_bias``), ``S^T tau`` the motor torques
+with ``b`` the Coriolis, centrifugal and gravity forces (``qfrc_bias``), ``p`` the model's passive
+forces (joint damping and springs, ``qfrc_passive``), ``S^T tau`` the motor torques
 on the actuated dofs and ``f_i`` the wrench (force, moment; world frame) on sole ``i`` about its
 centre, ``J_i`` (6, nv) that point's translational and rotational Jacobian. Each sole's Jacobian has
 nonzero columns on the base and on its own leg's
@@ -15,17 +16,20 @@ joints only, so the rows of (1) of leg ``i``'s joints ``L_i`` give one linear sy
 
 .. math::
 
-    J_{i,L_i}^T f_i = r_{L_i},\\qquad r = M \\ddot q + b - S^T \\tau                          (2)
+    J_{i,L_i}^T f_i = r_{L_i},\\qquad r = M \\ddot q + b - p - S^T \\tau                      (2)
 
 solved in least squares (six leg joints and six wrench components: exact where the leg is not
 singular; a five-joint leg leaves the one wrench direction it cannot feel to the minimum norm).
-``q``, ``\\dot q`` are the
-controller's state (the estimate), ``\\ddot q`` the accelerations its whole-body QP planned for the
-command now acting (the controller knows them; zero before the first), and ``tau`` the torques the motor
-drivers report (``tau_est``). The normal force is ``f_i . n_i`` with ``n_i`` the sole's normal (the
-sole frame's z axis). Its error comes from the torque readings and from the difference between the
-planned and the real accelerations; the estimator's contact trigger and fusion take it as a force
-signal with that noise (:mod:`gaitshift.control.estimation.contact_fusion`).
+``q``, ``\\dot q`` are the controller's state (the estimate), ``\\ddot q`` the MEASURED accelerations
+(the controller differentiates its estimated velocities: :meth:`gaitshift.control.state.ControllerState`
+runs eq. (2) one tick back) and ``tau`` the torques the motor drivers reported over that interval
+(``tau_est``). The accelerations must be measured, not the ones the whole-body QP planned: the QP's
+torques and accelerations satisfy (1) with the QP's own contact forces, so they would only give back
+what the controller assumed. The normal force is ``f_i . n_i`` with ``n_i`` the sole's normal (the
+sole frame's z axis). Its error comes from the torque readings, from the joints' dry friction (the
+model's ``frictionloss``, a constraint force (1) leaves out: 0.3 N m per G1 leg joint, about 1 N on a
+sole) and from the errors of the measured accelerations; the estimator's contact trigger and fusion
+take it as a force signal (:mod:`gaitshift.control.estimation.contact_fusion`).
 """
 
 from __future__ import annotations
@@ -76,6 +80,7 @@ class TorqueContact:
         planned accelerations ``qdd`` (nv,) (None: zero)."""
         m, r = self.model, self._r
         r[:] = data.qfrc_bias
+        r -= data.qfrc_passive
         if qdd is not None:
             mujoco.mj_mulM(m, data, self._ma, qdd)
             r += self._ma

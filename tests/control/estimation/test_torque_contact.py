@@ -1,0 +1,97 @@
+"""Contact from the motors' torques, eq. (2) of :mod:`gaitshift.control.estimation.torque_contact`.
+
+The oracle is eq. (1) itself: the whole-body QP's solution satisfies the equations of motion with its
+torques, its accelerations and its contact wrenches, so eq. (2) on those torques and accelerations
+must give back the QP's normal forces (to the QP's tolerance), in double support at rest and in
+single support mid-walk (the swing sole then reads zero). With the torques of a robot hanging in the
+air (gravity compensation of the free legs only, nothing on the soles) both soles read zero. The
+leg dofs are the chain from the sole to the floating base.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import mujoco
+import numpy as np
+import pytest
+
+from gaitshift.control.controller import Controller
+from gaitshift.control.estimation.torque_contact import TorqueContact, leg_dofs
+from gaitshift.control.frames import SensorFrame
+
+
+def _frame(c: Controller, t: float, q: np.ndarray, dq: np.ndarray) -> SensorFrame:
+    """The exact frame of the state (q, dq) of the controller's own model (IMU at its site)."""
+    m = c.robot.model
+    d = mujoco.MjData(m)
+    d.qpos[:], d.qvel[:] = q, dq
+    mujoco.mj_forward(m, d)
+    idx = m.jnt_qposadr[m.actuator_trnid[:, 0]]
+    vdx = m.jnt_dofadr[m.actuator_trnid[:, 0]]
+    site = m.site(c.imu_site).id
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, d.site_xmat[site])
+    up = d.site_xmat[site].reshape(3, 3).T @ np.array([0.0, 0.0, 9.81])
+    return SensorFrame(t, quat, np.zeros(3), up, q[idx].copy(), dq[vdx].copy(), np.zeros(m.nu), np.full(2, 160.0))
+
+
+@pytest.fixture(scope="module")
+def ctrl():
+    return Controller.from_scenario("g1-walk", state="oracle")
+
+
+def test_the_legs_are_the_chains_from_the_soles_to_the_base(ctrl):
+    m = ctrl.robot.model
+    for sole, dofs in zip(ctrl.robot.soles, TorqueContact(ctrl.robot).legs, strict=True):
+        assert len(dofs) == 6  # the G1's legs
+        bodies = {int(m.jnt_bodyid[m.dof_jntid[d]]) for d in dofs}
+        b = sole.body
+        chain = set()
+        while b != ctrl.robot.pelvis_body:
+            chain.add(b)
+            b = int(m.body_parentid[b])
+        assert bodies <= chain
+    assert len(leg_dofs(m, ctrl.robot.pelvis_body)) == 0
+
+
+def test_eq2_gives_back_the_qp_forces_at_rest(ctrl):
+    from gaitshift.control.frames import OracleState
+
+    c = Controller.from_scenario("g1-walk", state="oracle")
+    q0 = c.initial_qpos()
+    frame = _frame(c, 0.0, q0, np.zeros(c.robot.model.nv))
+    truth = OracleState(q0, np.zeros(c.robot.model.nv), np.ones(2, bool), np.zeros((2, 2)))
+    cmd = c.tick(SensorFrame(**{**frame.__dict__, "oracle": truth}))
+    info = c.record.info
+    f = TorqueContact(c.robot).normal_forces(c.state.cdata, cmd.tau, info.qdd)
+    np.testing.assert_allclose(f, info.forces[:, 2], rtol=1e-5, atol=1e-3)
+    weight = c.robot.mass * 9.81
+    assert f.sum() == pytest.approx(weight, rel=0.02)
+
+
+def test_a_robot_in_the_air_reads_no_sole_force(ctrl):
+    """Random torques and velocities with nothing on the soles: eq. (2) on MuJoCo's forward-dynamics
+    accelerations reads zero on both soles. The joints' dry friction (a constraint force eq. (1) leaves
+    out) is switched off for the identity, and with it on the error stays within its bound."""
+    import copy
+
+    m = copy.copy(ctrl.robot.model)
+    m.dof_frictionloss[:] = 0.0
+    robot = replace(ctrl.robot, model=m)
+    d = mujoco.MjData(m)
+    d.qpos[:] = ctrl.initial_qpos()
+    d.qpos[2] += 0.5
+    rng = np.random.default_rng(3)
+    d.qvel[:] = rng.normal(0.0, 0.3, m.nv)
+    tau = rng.normal(0.0, 5.0, m.nu)
+    d.ctrl[:] = tau
+    mujoco.mj_forward(m, d)  # contacts: none (no floor in the controller's model)
+    qdd = d.qacc.copy()
+    f = TorqueContact(robot).normal_forces(d, tau, qdd)
+    np.testing.assert_allclose(f, 0.0, atol=1e-6)
+    d2 = mujoco.MjData(ctrl.robot.model)  # the model as shipped: 0.3 N m of dry friction per leg joint
+    d2.qpos[:], d2.qvel[:], d2.ctrl[:] = d.qpos, d.qvel, tau
+    mujoco.mj_forward(ctrl.robot.model, d2)
+    f2 = TorqueContact(ctrl.robot).normal_forces(d2, tau, d2.qacc.copy())
+    assert np.all(np.abs(f2) < 5.0)  # newtons: the friction torques over the legs' lever arms
