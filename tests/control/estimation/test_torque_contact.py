@@ -95,3 +95,24 @@ def test_a_robot_in_the_air_reads_no_sole_force(ctrl):
     mujoco.mj_forward(ctrl.robot.model, d2)
     f2 = TorqueContact(ctrl.robot).normal_forces(d2, tau, d2.qacc.copy())
     assert np.all(np.abs(f2) < 5.0)  # newtons: the friction torques over the legs' lever arms
+
+
+def test_the_window_differentiates_a_constant_acceleration_exactly():
+    """Joint angles and base velocity of a motion with constant accelerations (quadratic angles,
+    linear velocities): the window's centre acceleration is exact, and the torque is the mean of the
+    ticks that moved the centre."""
+    from gaitshift.control.estimation.torque_contact import AccelerationWindow
+
+    n, dt, nj = 3, 0.002, 4
+    acc_true = np.array([0.5, -1.0, 2.0, 0.1, 0.2, -0.3, 3.0, -2.0, 1.5, 0.25])
+    w = AccelerationWindow(n, dt)
+    for k in range(2 * n + 1):
+        t = k * dt
+        qpos = np.zeros(7 + nj)
+        qpos[7:] = 0.5 * acc_true[6:] * t * t + 0.1 * t
+        qvel = np.zeros(6 + nj)
+        qvel[:6] = acc_true[:6] * t
+        w.push(qpos, qvel, np.full(2, float(k)))
+    assert w.full
+    np.testing.assert_allclose(w.acceleration(), acc_true, rtol=1e-6, atol=1e-8)
+    np.testing.assert_allclose(w.mean_torque(), np.full(2, np.mean(np.arange(1, 2 * n + 1))))

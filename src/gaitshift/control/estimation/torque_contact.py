@@ -21,9 +21,9 @@ joints only, so the rows of (1) of leg ``i``'s joints ``L_i`` give one linear sy
 solved in least squares (six leg joints and six wrench components: exact where the leg is not
 singular; a five-joint leg leaves the one wrench direction it cannot feel to the minimum norm).
 ``q``, ``\\dot q`` are the controller's state (the estimate), ``\\ddot q`` the MEASURED accelerations
-(the controller differentiates its estimated velocities: :meth:`gaitshift.control.state.ControllerState`
-runs eq. (2) one tick back) and ``tau`` the torques the motor drivers reported over that interval
-(``tau_est``). The accelerations must be measured, not the ones the whole-body QP planned: the QP's
+and ``tau`` the torques the motor drivers reported (``tau_est``), all at the centre of a window of
+``2 n + 1`` ticks (:class:`AccelerationWindow`: second differences of the estimated joint angles, the
+torques averaged), so the force is ``n`` ticks late. The accelerations must be measured, not the ones the whole-body QP planned: the QP's
 torques and accelerations satisfy (1) with the QP's own contact forces, so they would only give back
 what the controller assumed. The normal force is ``f_i . n_i`` with ``n_i`` the sole's normal (the
 sole frame's z axis). Its error comes from the torque readings, from the joints' dry friction (the
@@ -93,3 +93,56 @@ class TorqueContact:
             wrench, *_ = np.linalg.lstsq(jac[:, dofs].T, r[dofs], rcond=None)  # (n_leg, 6) J_leg^T
             out[s] = float(wrench[:3] @ rot[:, 2])
         return out
+
+
+class AccelerationWindow:
+    """The last ``2 n + 1`` ticks of the controller's state and the reported torques, and the
+    accelerations at the window's centre ``c`` (n ticks ago)::
+
+        qdd_joints = (q_k - 2 q_c + q_{k-2n}) / (n dt)^2        second difference of the joint angles
+        qdd_base   = (v_{c+n} - v_{c-n}) / (2 n dt)              central difference of the base velocity
+
+    with the torques averaged over the ticks ``c - n + 1 .. c + n`` that moved it. Angles, not
+    velocities: the estimated joint velocities come from encoder differences and their difference is
+    ten times noisier (docs/estimation.md, "Contact without foot force")."""
+
+    def __init__(self, n: int, dt: float) -> None:
+        if n < 1:
+            raise InputError("torque_window", n, "an integer >= 1 (ticks)")
+        self.n, self.dt = int(n), float(dt)
+        self.qpos: list[np.ndarray] = []
+        self.qvel: list[np.ndarray] = []
+        self.tau: list[np.ndarray] = []
+        self._data: Any = None
+
+    @property
+    def full(self) -> bool:
+        return len(self.qpos) == 2 * self.n + 1
+
+    def push(self, qpos: np.ndarray, qvel: np.ndarray, tau: np.ndarray) -> None:
+        """Add the newest tick (the oldest beyond the window drops out)."""
+        for rows, x in ((self.qpos, qpos), (self.qvel, qvel), (self.tau, tau)):
+            rows.append(np.array(x, float))
+            if len(rows) > 2 * self.n + 1:
+                rows.pop(0)
+
+    def centre_data(self, model: Any) -> Any:
+        """An ``MjData`` of ``model`` at the window's centre state (``mj_forward`` done)."""
+        if self._data is None:
+            self._data = mujoco.MjData(model)
+        d = self._data
+        d.qpos[:], d.qvel[:] = self.qpos[self.n], self.qvel[self.n]
+        mujoco.mj_forward(model, d)
+        return d
+
+    def acceleration(self) -> np.ndarray:
+        """The accelerations (nv,) at the centre (class docstring)."""
+        n, h = self.n, self.n * self.dt
+        acc: np.ndarray = (self.qvel[2 * n] - self.qvel[0]) / (2 * h)
+        acc[6:] = (self.qpos[2 * n][7:] - 2 * self.qpos[n][7:] + self.qpos[0][7:]) / (h * h)
+        return acc
+
+    def mean_torque(self) -> np.ndarray:
+        """The reported torques (nu,) averaged over the ticks that moved the centre state."""
+        mean: np.ndarray = np.mean(self.tau[1:], axis=0)
+        return mean
