@@ -20,16 +20,17 @@ joints only, so the rows of (1) of leg ``i``'s joints ``L_i`` give one linear sy
 
 solved in least squares (six leg joints and six wrench components: exact where the leg is not
 singular; a five-joint leg leaves the one wrench direction it cannot feel to the minimum norm).
-``q``, ``\\dot q`` are the controller's state (the estimate), ``\\ddot q`` the MEASURED accelerations
-and ``tau`` the torques the motor drivers reported (``tau_est``), all at the centre of a window of
-``2 n + 1`` ticks (:class:`AccelerationWindow`: second differences of the estimated joint angles, the
-torques averaged), so the force is ``n`` ticks late. The accelerations must be measured, not the ones the whole-body QP planned: the QP's
-torques and accelerations satisfy (1) with the QP's own contact forces, so they would only give back
-what the controller assumed. The normal force is ``f_i . n_i`` with ``n_i`` the sole's normal (the
-sole frame's z axis). Its error comes from the torque readings, from the joints' dry friction (the
-model's ``frictionloss``, a constraint force (1) leaves out: 0.3 N m per G1 leg joint, about 1 N on a
-sole) and from the errors of the measured accelerations; the estimator's contact trigger and fusion
-take it as a force signal (:mod:`gaitshift.control.estimation.contact_fusion`).
+``q``, ``\\dot q`` are the controller's state (the estimate), ``\\ddot q`` the MEASURED
+accelerations and ``tau`` the torques the motor drivers reported (``tau_est``), all at the centre of
+a window of ``2 n + 1`` ticks (:class:`AccelerationWindow`: second differences of the estimated
+joint angles, the torques averaged), so the force is ``n`` ticks late. The accelerations must be
+measured, not the ones the whole-body QP planned: the QP's torques and accelerations satisfy (1)
+with the QP's own contact forces, so they would only give back what the controller assumed. The
+normal force is ``f_i . n_i`` with ``n_i`` the sole's normal (the sole frame's z axis). Its error
+comes from the torque readings, from the joints' dry friction (the model's ``frictionloss``, a
+constraint force (1) leaves out: 0.3 N m per G1 leg joint, about 1 N on a sole) and from the errors
+of the measured accelerations; the estimator's contact trigger and fusion take it as a force signal
+(:mod:`gaitshift.control.estimation.contact_fusion`).
 """
 
 from __future__ import annotations
