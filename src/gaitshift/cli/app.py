@@ -11,6 +11,7 @@ from pathlib import Path
 
 import typer
 
+from gaitshift.common.atomic import check_name
 from gaitshift.errors import InputError
 
 app = typer.Typer(
@@ -31,6 +32,7 @@ def out_file(path: Path, flag: str, suffixes: tuple[str, ...]) -> Path:
     """
     if path.suffix.lower() not in suffixes or not path.stem:
         raise InputError(flag, str(path), "a file name ending in " + ", ".join(suffixes))
+    check_name(path, flag)
     if path.exists() and not path.is_file():
         raise InputError(flag, str(path), "a file path (this is a folder or a special file)")
     _writable(path.parent, path, flag)

@@ -22,7 +22,7 @@ from typing import TypeAlias, overload
 
 import numpy as np
 
-from gaitshift.errors import InputError, StiffnessError
+from gaitshift.errors import InputError, StiffnessError, number_in
 from gaitshift.models.arrays import FloatArray, FloatLike, IntArray
 from gaitshift.models.tvlip import support_map_1d
 
@@ -47,6 +47,12 @@ class Stiffness:
 
     def as_dict(self) -> dict[str, float]:
         return {"T_w": self.T_w, "T_r": self.T_r, "v_r": self.v_r, "T_t0": self.T_t0, "T_t1": self.T_t1}
+
+
+#: the public call's physical ranges: CoM height, m; phase durations, s; gravity, m/s^2
+HEIGHT_RANGE = (0.01, 100.0)
+DURATION_RANGE = (1e-3, 60.0)
+GRAVITY_RANGE = (0.01, 1000.0)
 
 
 def _check_positive(**values: FloatLike) -> None:
@@ -275,9 +281,24 @@ def stiffness(
         InputError: a non-positive or non-finite input.
         StiffnessError: no physical root (residual above 1e-10, or the CoM would reach the ground).
     """
-    _check_positive(
-        height=height, single_support=single_support, double_support=double_support, flight=flight, gravity=gravity
-    )
+    for name, value, bounds in (
+        ("height", height, HEIGHT_RANGE),
+        ("single_support", single_support, DURATION_RANGE),
+        ("double_support", double_support, DURATION_RANGE),
+        ("flight", flight, DURATION_RANGE),
+        ("gravity", gravity, GRAVITY_RANGE),
+    ):
+        number_in(name, value, bounds)
+    try:
+        return _stiffness(float(height), float(single_support), float(double_support), float(flight), float(gravity))
+    except (OverflowError, FloatingPointError, ZeroDivisionError) as exc:
+        raise StiffnessError(
+            "timings", (single_support, double_support, flight), f"timings the closed forms can evaluate ({exc})"
+        ) from None
+
+
+def _stiffness(height: float, single_support: float, double_support: float, flight: float, gravity: float) -> Stiffness:
+    """:func:`stiffness` on checked numbers."""
     T_w = float(walking(height, gravity))
     T_r, v_r, res_r, _ = solve_running(height, single_support, flight, gravity)
     T_r, v_r = float(T_r), float(v_r)

@@ -20,6 +20,7 @@ from gaitshift.common.atomic import atomic_path
 from gaitshift.common.jsonsafe import finite_json
 from gaitshift.errors import InputError
 from gaitshift.trajectory.contract import Trajectory
+from gaitshift.trajectory.formats import NPZ_ERRORS
 
 
 @dataclass(frozen=True)
@@ -58,11 +59,20 @@ class JointTrajectory:
         path = Path(path)
         if not path.is_file():
             raise InputError("file", str(path), "an existing joints .npz file")
-        with np.load(path, allow_pickle=False) as z:
-            missing = [k for k in ("t", "qpos", "qvel", "meta") if k not in z.files]
-            if missing:
-                raise InputError("file", str(path), f"a joints file with keys t, qpos, qvel, meta (missing {missing})")
-            return cls(z["t"], z["qpos"], z["qvel"], json.loads(str(z["meta"])))
+        allowed = "a joints .npz file from `gaitshift wholebody` (t, qpos, qvel, meta)"
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                missing = [k for k in ("t", "qpos", "qvel", "meta") if k not in z.files]
+                if missing:
+                    raise InputError("file", str(path), f"{allowed}; missing {missing}")
+                t, qpos, qvel, meta = z["t"], z["qpos"], z["qvel"], json.loads(str(z["meta"]))
+        except (*NPZ_ERRORS, json.JSONDecodeError) as exc:
+            if isinstance(exc, InputError):
+                raise
+            raise InputError("file", str(path), f"{allowed} (unreadable: {str(exc).splitlines()[0][:80]})") from None
+        if not isinstance(meta, dict):
+            raise InputError("file", str(path), f"{allowed} (meta is not a JSON object)")
+        return cls(t, qpos, qvel, meta)
 
 
 def subsample(traj: Trajectory, rate: float | None) -> Trajectory:

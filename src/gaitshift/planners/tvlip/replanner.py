@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
-from gaitshift.errors import InfeasibleError
+from gaitshift.errors import InfeasibleError, InputError
 from gaitshift.gait.sequence import GaitSequence, Phase
 from gaitshift.models.arrays import FloatArray, FloatLike
 from gaitshift.models.tvlip import flight_state, support_state
@@ -67,6 +69,9 @@ class Replanner:
             InfeasibleError: the measured state cannot be brought to rest at the goal with the ZMP
                 inside eq. (7)'s boxes (the robot needs other footsteps).
         """
+        p_xy, v_xy = _measured("p_xy", p_xy), _measured("v_xy", v_xy)
+        if isinstance(t, bool) or not isinstance(t, int | float | np.floating) or not math.isfinite(t):
+            raise InputError("t", t, "a finite time, s")
         tb = self.seq.boundary_times
         t = float(np.clip(t, 0.0, tb[-1] - 1e-6))
         k = int(np.clip(np.searchsorted(tb, t, side="right") - 1, 0, len(self.seq.phases) - 1))
@@ -130,3 +135,14 @@ class Replanner:
         k = np.clip(np.searchsorted(tb, t + 1e-12, side="right") - 1, 0, K - 1)
         s = np.clip(t - tb[k], 0.0, self._seq.duration[k])
         return evaluate(self._seq, self._bp, k, s, self.g)
+
+
+def _measured(field: str, value: Any) -> np.ndarray:
+    """A measured horizontal CoM quantity: 2 finite numbers (m or m/s), else :class:`InputError`."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(field, value, "2 finite numbers") from None
+    if a.shape != (2,) or not np.all(np.isfinite(a)):
+        raise InputError(field, value, "2 finite numbers")
+    return a
