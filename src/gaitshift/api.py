@@ -15,7 +15,7 @@ from gaitshift.planners.registry import planner_for
 from gaitshift.scenario.loader import load_scenario
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["plan", "plan_robot", "robot_facts", "with_robot"]
+__all__ = ["named_robot", "plan", "plan_robot", "robot_facts", "with_robot"]
 
 
 def robot_facts(scenario: Any) -> Any:
@@ -47,6 +47,17 @@ def with_robot(scenario: Any, robot: str | None) -> tuple[Any, str]:
     return scenario, _one_robot(own, robot, scenario.name)
 
 
+def named_robot(meta: dict[str, Any]) -> str | None:
+    """The robot a plan's ``meta`` names: ``meta.robot`` (the locomotion planner writes it) or the
+    ``robot`` of ``meta.scenario`` (the scenario the others write), or None."""
+    own = meta.get("robot")
+    if isinstance(own, str) and own:
+        return own
+    scenario = meta.get("scenario")
+    name = scenario.get("robot") if isinstance(scenario, dict) else None
+    return None if name is None else str(name)
+
+
 def plan_robot(traj: Trajectory, robot: str | None) -> str:
     """The robot a plan is for, from the ``robot`` of the scenario it was planned from (``traj.meta``)
     and a ``--robot`` choice, by the rules of :func:`with_robot` (no robot anywhere: ``g1``).
@@ -55,9 +66,8 @@ def plan_robot(traj: Trajectory, robot: str | None) -> str:
         InputError: the two robots differ, or either does not load.
     """
     scenario = traj.meta.get("scenario")
-    own = scenario.get("robot") if isinstance(scenario, dict) else None
-    name = scenario.get("name", "the plan") if isinstance(scenario, dict) else "the plan"
-    return _one_robot(None if own is None else str(own), robot, str(name))
+    name = scenario.get("name", "the plan") if isinstance(scenario, dict) else scenario or "the plan"
+    return _one_robot(named_robot(traj.meta), robot, str(name))
 
 
 def _one_robot(own: str | None, robot: str | None, scenario: str) -> str:

@@ -25,3 +25,25 @@ def test_a_name_too_long_is_one_line_and_exit_2(cli, tmp_path, name):
     code, _, err = cli(["plan", "g1-walk", "--out", str(out)])
     assert code == 2 and err.count("\n") == 1 and "--out" in err and "bytes" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_export_reads_the_robot_a_locomotion_plan_names(tmp_path):
+    """The locomotion planner writes ``meta.robot`` (a string); the others ``meta.scenario.robot``:
+    both name the plan's robot for export and the Rerun recording."""
+    from gaitshift.api import named_robot
+
+    assert named_robot(gaitshift.plan("g1-tour").meta) == "g1"
+    assert named_robot(gaitshift.plan("g1-walk").meta) == "g1"
+    assert named_robot(gaitshift.plan("paper001-table2-walk-run-walk").meta) is None
+
+
+def test_a_log_whose_meta_is_not_json_is_one_line(cli, tmp_path):
+    from gaitshift.export.source import LOG_KEYS
+
+    log = tmp_path / "log.npz"
+    arrays = {k: np.zeros((3, 2)) for k in LOG_KEYS}
+    arrays["meta"] = np.array("{not json")
+    np.savez(log, **arrays)
+    out = tmp_path / "m.csv"
+    code, _, err = cli(["export", str(log), "--format", "unitree-csv", "--out", str(out)])
+    assert code == 2 and err.count("\n") == 1 and "meta" in err and not out.exists()

@@ -195,11 +195,12 @@ def scenario_name(meta: dict[str, Any], default: str) -> str:
 
 
 def _plan_robot(traj: Any) -> Any:
-    scenario = traj.meta.get("scenario")
-    name = scenario.get("robot") if isinstance(scenario, dict) else None
+    from gaitshift.api import named_robot
+    from gaitshift.robots.config import load_robot
+
+    name = named_robot(traj.meta)
     if name is None:
         return None
-    from gaitshift.robots.config import load_robot
 
     return load_robot(str(name))
 

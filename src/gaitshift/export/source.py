@@ -74,7 +74,12 @@ def load_source(path: str | Path, robot: str | None, fps: float) -> SourceMotion
 
 
 def _from_log(path: Path, log: dict[str, np.ndarray], robot: str | None) -> SourceMotion:
-    meta = json.loads(str(log["meta"]))
+    try:
+        meta = json.loads(str(log["meta"]))
+    except json.JSONDecodeError as exc:
+        raise InputError("input", str(path), f"a simulation log whose meta is JSON ({exc.msg})") from None
+    if not isinstance(meta, dict):
+        raise InputError("input", str(path), "a simulation log whose meta is a JSON object")
     own = meta.get("robot", "g1")
     if robot is not None and load_robot(robot) != load_robot(own):
         raise InputError("--robot", robot, f"the robot the log was simulated with ({own}), or no --robot")
@@ -89,12 +94,12 @@ def _from_log(path: Path, log: dict[str, np.ndarray], robot: str | None) -> Sour
 
 
 def _from_plan(path: Path, robot: str | None, fps: float) -> SourceMotion:
+    from gaitshift.api import named_robot
     from gaitshift.trajectory.contract import Trajectory
     from gaitshift.wholebody.ik import WholeBodyIK
 
     traj = Trajectory.load(path)
-    scenario = traj.meta.get("scenario")
-    named = scenario.get("robot") if isinstance(scenario, dict) else None
+    named = named_robot(traj.meta)
     if robot is None and named is None:
         raise InputError("--robot", None, "a built-in robot name or robot YAML (the plan names none)")
     cfg = load_robot(robot if robot is not None else str(named))
