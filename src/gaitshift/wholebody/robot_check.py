@@ -58,14 +58,7 @@ def _sole_findings(robot: RobotConfig) -> list[Finding]:
         if not ok:
             text += " (set sole_orientation: geoms, or a quaternion per side, in the robot YAML)"
         out.append(Finding("sole frame", ok, text))
-    out.append(
-        Finding(
-            "balance",
-            st.com_margin > 0,
-            f"CoM {abs(st.com_margin) * 1e3:.1f} mm {'inside' if st.com_margin > 0 else 'OUTSIDE'} the support "
-            "polygon of the soles in the standing pose",
-        )
-    )
+    out.append(_balance_finding(st.com_margin, st.support_area))
     j = int(np.argmax(st.torque_fraction))
     frac = float(st.torque_fraction[j])
     out.append(
@@ -77,6 +70,23 @@ def _sole_findings(robot: RobotConfig) -> list[Finding]:
         )
     )
     return out
+
+
+def _balance_finding(margin: float, area: bool) -> Finding:
+    """The CoM's ground projection against the support polygon (``margin`` m, > 0 inside)."""
+    if not area:
+        return Finding(
+            "balance",
+            False,
+            f"the soles' contact points lie on a line in the standing pose: no support polygon (CoM "
+            f"{abs(margin) * 1e3:.1f} mm from it; check sole_orientation in the robot YAML)",
+        )
+    return Finding(
+        "balance",
+        margin > 0,
+        f"CoM {abs(margin) * 1e3:.1f} mm {'inside' if margin > 0 else 'OUTSIDE'} the support "
+        "polygon of the soles in the standing pose",
+    )
 
 
 def _plan_findings(robot: RobotConfig, traj: Trajectory) -> list[Finding]:
