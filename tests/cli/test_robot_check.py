@@ -121,3 +121,13 @@ def test_a_zero_sole_quaternion_is_refused_by_the_schema(cli, tmp_path):
     code, _, err = cli(["robot", "check", str(path)])
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
     assert err.startswith("gaitshift: error: robot.sole_orientation = ") and "norm >= 0.1" in err
+
+
+def test_a_joint_at_its_range_limit_in_the_standing_pose_is_a_problem(cli, tmp_path):
+    """The T1's elbow pitch range is [-2.27, 2.27] rad: standing with it at 2.27 is one PROBLEM line naming it."""
+    path = tmp_path / "t1.yaml"
+    path.write_text(_yaml("t1").replace("standing_pose:\n", "standing_pose:\n  Left_Elbow_Pitch: 2.27\n"))
+    code, out, _ = cli(["robot", "check", str(path)])
+    problems = [x for x in out.splitlines() if x.startswith("PROBLEM")]
+    assert code == 1 and len(problems) == 1, out
+    assert problems[0].startswith("PROBLEM standing limits: Left_Elbow_Pitch = 2.270 rad"), problems
