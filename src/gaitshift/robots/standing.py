@@ -126,19 +126,25 @@ def computed_standing_pose(
         dq = np.linalg.solve(A.T @ A + 1e-6 * np.eye(len(joints)), -A.T @ r)
         q[qadr] = np.clip(q[qadr] + dq, rng[:, 0], rng[:, 1])
     if np.max(np.abs(r)) > 1e-4:
-        tilts = [_tilt(d.site_xmat[s].reshape(3, 3)) for s in sites]
-        if max(tilts) > SOLE_TILT_TOL:
-            side = "left" if tilts[0] >= tilts[1] else "right"
-            raise InputError(
-                "robot.sole_orientation",
-                orientation,
-                f"a sole frame the legs can turn flat (the {side} sole's normal stays "
-                f"{np.degrees(max(tilts)):.1f} deg from vertical; set sole_orientation: geoms, or a "
-                "quaternion per side)",
-            )
-        raise InputError(
-            "robot.com_height",
-            round(height, 4),
-            f"a reachable standing CoM height (IK residual {np.max(np.abs(r)):.2g})",
-        )
+        raise _unreached(d, sites, float(np.max(np.abs(r))), height, orientation)
     return held | {model.joint(j).name: float(q[model.jnt_qposadr[j]]) for j in joints}
+
+
+def _unreached(d: Any, sites: tuple[int, int], residual: float, height: float, orientation: object) -> InputError:
+    """The error of a standing pose the IK did not reach (residual, m or rad): ``sole_orientation`` when a
+    sole stays tilted by more than :data:`SOLE_TILT_TOL` (the legs cannot turn it flat), else ``com_height``."""
+    tilts = [_tilt(d.site_xmat[s].reshape(3, 3)) for s in sites]
+    if max(tilts) > SOLE_TILT_TOL:
+        side = "left" if tilts[0] >= tilts[1] else "right"
+        return InputError(
+            "robot.sole_orientation",
+            orientation,
+            f"a sole frame the legs can turn flat (the {side} sole's normal stays "
+            f"{np.degrees(max(tilts)):.1f} deg from vertical; set sole_orientation: geoms, or a "
+            "quaternion per side)",
+        )
+    return InputError(
+        "robot.com_height",
+        round(height, 4),
+        f"a reachable standing CoM height (IK residual {residual:.2g})",
+    )
