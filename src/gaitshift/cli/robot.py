@@ -101,7 +101,7 @@ def scale_cmd(
     scaled = scale_scenario(sc, robot, time_scale=time_scale)
     header = f"{sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f} (gaitshift scale)"
     with atomic_path(out) as tmp:
-        tmp.write_text(scenario_yaml(scaled, header))
+        tmp.write_text(scenario_yaml(scaled, header, out.parent))
     typer.echo(f"scaled {sc.name} by {scale_factor(sc, robot):.4f} for {robot} -> {out}")
 
 

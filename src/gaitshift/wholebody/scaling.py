@@ -243,11 +243,18 @@ def _scale_path(data: dict[str, Any], dotted: str, lam: float) -> None:
         raise InputError(dotted, v, "a length (number or list of numbers) to scale")
 
 
-def scenario_yaml(scenario: Any, header: str = "") -> str:
-    """YAML text of a scenario (``gaitshift scale --out``), floats to 12 significant digits."""
+def scenario_yaml(scenario: Any, header: str = "", folder: Path | None = None) -> str:
+    """YAML text of a scenario (``gaitshift scale --out``), floats to 12 significant digits; with
+    ``folder`` (the output file's), a robot given by an absolute YAML path is written relative to it
+    (the loader resolves it from the scenario file's folder)."""
+    import os
+
     import yaml
 
     data = scenario.model_dump(mode="json")
+    robot = data.get("robot")
+    if folder is not None and isinstance(robot, str) and Path(robot).is_absolute():
+        data["robot"] = Path(os.path.relpath(robot, Path(folder).resolve())).as_posix()
 
     def _round(v: Any) -> Any:
         if isinstance(v, float):
