@@ -173,9 +173,9 @@ def test_a_circle_at_constant_speed_reads_that_speed(run_plan):
     travels v per second forward whatever its world direction (world x alone read 0.53 of 1.5 m/s on a
     turning run)."""
     traj = run_plan
-    v, radius = 1.5, 2.0
-    psi = v / radius * (traj.t - traj.t[0])
-    com = np.column_stack([radius * np.sin(psi), radius * (1.0 - np.cos(psi)), traj.com_pos[:, 2]])
+    v, radius = 1.5, 20.0  # heading from pi/2 (along world y) turning left by about 1 rad: world x reads <= 0
+    psi = math.pi / 2 + v / radius * (traj.t - traj.t[0])
+    com = np.column_stack([radius * np.sin(psi), -radius * np.cos(psi), traj.com_pos[:, 2]])
     turning = dataclasses.replace(traj, heading=(psi + math.pi) % (2.0 * math.pi) - math.pi)
     result = replay(turning)
     result.arrays["com_pos"] = com
