@@ -1,5 +1,7 @@
 """``gaitshift robot check``: one line per check, exit 1 with a PROBLEM line for each thing that will
-fail (a tilted sole frame, a joint speed above its limit), exit 0 for a robot that is fine."""
+fail (a tilted sole frame, soles whose contact points span no area, a joint speed above its limit),
+exit 0 for a robot that is fine; a sole frame the legs cannot turn flat, or a zero quaternion, is one
+error line naming ``sole_orientation`` (exit 2)."""
 
 from __future__ import annotations
 
@@ -78,3 +80,54 @@ def test_robot_errors_are_one_line_with_exit_2(cli, tmp_path):
         code == 2
         and err.strip() == "gaitshift: error: robot.knees = missing is invalid: allowed a value (required key)"
     )
+
+
+APOLLO = "asset:mujoco/playground/assets/mujoco_menagerie/apptronik_apollo/apptronik_apollo.xml"
+
+
+def test_soles_on_a_line_are_a_balance_problem_not_a_crash(cli, tmp_path):
+    """Apollo without ``sole_orientation``: each foot's lowest points are one edge (2 points per sole, on
+    a line in the ground plane); that used to end in scipy's QhullError traceback."""
+    path = tmp_path / "apollo.yaml"
+    path.write_text(
+        f"name: apollo\nmjcf: {APOLLO}\nsoles: {{left: {{body: l_foot_link}}, right: {{body: r_foot_link}}}}\n"
+        "torso: torso_link\nhips: [l_hip_fe, r_hip_fe]\nknees: [l_knee_fe, r_knee_fe]\n"
+        "leg_joints: [l_hip_ie, l_hip_aa, l_hip_fe, l_knee_fe, l_ankle_ie, l_ankle_pd,"
+        " r_hip_ie, r_hip_aa, r_hip_fe, r_knee_fe, r_ankle_ie, r_ankle_pd]\n"
+    )
+    code, out, err = cli(["robot", "check", str(path)])
+    problems = [x for x in out.splitlines() if x.startswith("PROBLEM")]
+    assert code == 1 and err == "", err
+    assert any(p.startswith("PROBLEM balance:") and "sole_orientation" in p for p in problems), out
+
+
+def test_berkeley_without_sole_orientation_names_the_sole_frame(cli, tmp_path):
+    """Its computed standing pose cannot make the rotated foot frames flat: the one line names
+    ``sole_orientation`` (it used to name ``com_height``)."""
+    path = tmp_path / "b.yaml"
+    path.write_text(_yaml("berkeley").replace("\nsole_orientation: geoms", ""))
+    code, _, err = cli(["robot", "check", str(path)])
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith("gaitshift: error: robot.sole_orientation = 'body' is invalid") and "geoms" in err
+
+
+def test_a_zero_sole_quaternion_is_refused_by_the_schema(cli, tmp_path):
+    path = tmp_path / "b.yaml"
+    path.write_text(
+        _yaml("berkeley").replace(
+            "\nsole_orientation: geoms", "\nsole_orientation: {left: [0, 0, 0, 0], right: [1, 0, 0, 0]}"
+        )
+    )
+    code, _, err = cli(["robot", "check", str(path)])
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith("gaitshift: error: robot.sole_orientation = ") and "norm >= 0.1" in err
+
+
+def test_a_joint_at_its_range_limit_in_the_standing_pose_is_a_problem(cli, tmp_path):
+    """The T1's elbow pitch range is [-2.27, 2.27] rad: standing with it at 2.27 is one PROBLEM line naming it."""
+    path = tmp_path / "t1.yaml"
+    path.write_text(_yaml("t1").replace("standing_pose:\n", "standing_pose:\n  Left_Elbow_Pitch: 2.27\n"))
+    code, out, _ = cli(["robot", "check", str(path)])
+    problems = [x for x in out.splitlines() if x.startswith("PROBLEM")]
+    assert code == 1 and len(problems) == 1, out
+    assert problems[0].startswith("PROBLEM standing limits: Left_Elbow_Pitch = 2.270 rad"), problems

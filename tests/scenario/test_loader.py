@@ -1,5 +1,6 @@
-"""Loading scenarios: every built-in loads, the schema registry covers the planners, and every way a
-file or name can be wrong ends in one ScenarioError that says which."""
+"""Loading scenarios: every built-in loads, the schema registry covers the planners, every way a
+file or name can be wrong ends in one ScenarioError that says which, and a relative robot YAML path in
+a scenario file is relative to that file's folder, not to the working directory."""
 
 import pytest
 
@@ -70,3 +71,17 @@ def test_keys_and_planner_must_be_names(tmp_path):
         path.write_text(f"planner: {planner}\n")
         err = _error(path)
         assert err.field == "planner" and err.allowed == "one of: tvlip, vhip, locomotion"
+
+
+def test_a_relative_robot_path_is_relative_to_the_scenario_file(tmp_path, monkeypatch):
+    (tmp_path / "robots").mkdir()
+    (tmp_path / "scenarios").mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    robot = tmp_path / "robots" / "mine.yaml"
+    robot.write_text("name: mine\n")
+    path = tmp_path / "scenarios" / "walk.yaml"
+    path.write_text("planner: locomotion\nrobot: ../robots/mine.yaml\n")
+    monkeypatch.chdir(tmp_path / "elsewhere")
+    assert load_scenario(str(path)).robot == str(robot.resolve())
+    path.write_text("planner: locomotion\nrobot: g1\n")  # a built-in name stays a name
+    assert load_scenario(str(path)).robot == "g1"

@@ -7,6 +7,7 @@ a torque peak, an early end); each metric must report exactly that alteration.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 
@@ -165,3 +166,18 @@ def test_a_fall_before_the_first_tick_gives_complete_finite_metrics_and_a_table(
     json.loads(json.dumps(finite_json(metrics), allow_nan=False))
     table = format_metrics(metrics)
     assert "0.000  (pelvis below 60% of its initial height)" in table
+
+
+def test_a_circle_at_constant_speed_reads_that_speed(run_plan):
+    """Physics identity: a CoM on a circle of radius R at speed v, the plan's heading along the tangent,
+    travels v per second forward whatever its world direction (world x alone read 0.53 of 1.5 m/s on a
+    turning run)."""
+    traj = run_plan
+    v, radius = 1.5, 20.0  # heading from pi/2 (along world y) turning left by about 1 rad: world x reads <= 0
+    psi = math.pi / 2 + v / radius * (traj.t - traj.t[0])
+    com = np.column_stack([radius * np.sin(psi), -radius * np.cos(psi), traj.com_pos[:, 2]])
+    turning = dataclasses.replace(traj, heading=(psi + math.pi) % (2.0 * math.pi) - math.pi)
+    result = replay(turning)
+    result.arrays["com_pos"] = com
+    met = summarize(result, turning, LIMIT)
+    assert met["mean_forward_speed_max"] == pytest.approx(v, rel=1e-4)

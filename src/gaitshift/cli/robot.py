@@ -16,14 +16,18 @@ _SOURCE_HELP = "Trajectory file (.npz/.csv/.json from `gaitshift plan`) or a sce
 
 
 @app.command("robots")
-def robots_cmd() -> None:
-    """List the built-in robots with the numbers read from their models."""
+def robots_cmd(
+    robots: list[str] | None = typer.Argument(
+        None, help="Robots to describe (built-in names or robot YAML paths); default: every built-in robot."
+    ),
+) -> None:
+    """List robots (the built-in ones, or those given) with the numbers read from their models."""
     from gaitshift.robots import builtin_robots, load_robot
 
-    for name in builtin_robots():
-        r = load_robot(name)
+    configs = [load_robot(name) for name in (robots or builtin_robots())]  # every one loads before any line
+    for r in configs:
         typer.echo(
-            f"{name:4s} {r.description}: {r.mass:.1f} kg, {len(r.joint_names)} joints, CoM height "
+            f"{r.name:4s} {r.description or r.source}: {r.mass:.1f} kg, {len(r.joint_names)} joints, CoM height "
             f"{r.com_height:.3f} m, leg length {r.leg_length:.3f} m, soles {r.sole_size[0]:.3f} x "
             f"{r.sole_size[1]:.3f} m"
         )
@@ -101,7 +105,7 @@ def scale_cmd(
     scaled = scale_scenario(sc, robot, time_scale=time_scale)
     header = f"{sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f} (gaitshift scale)"
     with atomic_path(out) as tmp:
-        tmp.write_text(scenario_yaml(scaled, header))
+        tmp.write_text(scenario_yaml(scaled, header, out.parent))
     typer.echo(f"scaled {sc.name} by {scale_factor(sc, robot):.4f} for {robot} -> {out}")
 
 

@@ -231,8 +231,10 @@ def _check_names(model: Any, cfg: RobotYaml, mjcf: Path) -> None:
     ):
         if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, n) < 0:
             raise InputError(f"robot.{fld}", n, f"a body of {mjcf.name}")
-    if cfg.standing_pose and cfg.com_height is not None:
-        raise InputError("robot.com_height", cfg.com_height, "only without standing_pose (the pose sets the height)")
+    if set(cfg.leg_joints) & set(cfg.standing_pose) and cfg.com_height is not None:
+        raise InputError(
+            "robot.com_height", cfg.com_height, "only when standing_pose gives no leg joint (the legs set the height)"
+        )
 
 
 def _joints(model: Any, mjcf: Path) -> list[int]:
@@ -309,12 +311,13 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
     knees = [model.joint(n).id for n in cfg.knees]
     roll = _foot_roll(model, legs, knees, soles, bodies)  # type: ignore[arg-type]
     pose = dict(cfg.standing_pose)
-    computed = not pose
+    computed = not set(cfg.leg_joints) & set(pose)
     sites = (model.site(_mj.SOLE_SITES[0]).id, model.site(_mj.SOLE_SITES[1]).id)
     if computed:
         straight = com_height(model, ())
         height = cfg.com_height if cfg.com_height is not None else STANDING_HEIGHT_FRACTION * straight
-        pose = computed_standing_pose(model, sites, legs, knees, list(roll), height)
+        orientation = cfg.sole_orientation if isinstance(cfg.sole_orientation, str) else "quaternions"
+        pose = computed_standing_pose(model, sites, legs, knees, list(roll), height, pose, orientation)
     names = tuple(model.joint(j).name for j in joints)
     rng = np.array([model.jnt_range[j] if model.jnt_limited[j] else (-np.inf, np.inf) for j in joints])
     for n, lo, hi in zip(names, rng[:, 0], rng[:, 1], strict=True):

@@ -10,14 +10,17 @@
                        of the foot's collision geoms (:mod:`gaitshift.robots.soles`)
 ``sole_orientation``   (optional) sole frame in the foot body frame: ``body`` (default), ``geoms`` (the
                        frame of the foot's largest collision box) or ``{left: [w, x, y, z], right: ...}``
+                       (each of norm >= :data:`MIN_QUAT_NORM`; normalised)
 ``sole_size``          (optional) [length, width] of the sole rectangle, m; default: from the geoms
 ``torso``              body kept upright by the IK
 ``hips``, ``knees``    [left, right] hip-pitch and knee joint names (reach and singularity checks)
 ``leg_joints``         the leg joints, left then right
 ``arm_joints``         (optional) joints held at the standing pose by the arm posture task
-``standing_pose``      (optional) {joint: angle, rad}; unlisted joints are at the model's qpos0
-``com_height``         (optional, only without ``standing_pose``) CoM height above the soles, m, for
-                       which the standing pose is computed by IK (:mod:`gaitshift.robots.standing`);
+``standing_pose``      (optional) {joint: angle, rad}; unlisted joints are at the model's qpos0, except
+                       when it gives no leg joint (arms only, or absent): the leg joints are then
+                       computed by IK with the given joints held (:mod:`gaitshift.robots.standing`)
+``com_height``         (optional, only when ``standing_pose`` gives no leg joint) CoM height above the
+                       soles, m, for which the leg joints are computed;
                        default: 0.92 x the CoM height with straight legs
 ``velocity_limits``    (optional) {joint: rad/s}; MJCF has no velocity limits, so they come from the
                        maker's URDF (``velocity_limits_source`` says which); ``gaitshift robot check``
@@ -46,7 +49,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field, Strict
+from pydantic import Field, Strict, field_validator
 
 from gaitshift.scenario.fields import Length, Real, StrictModel
 
@@ -68,6 +71,10 @@ class Sole(StrictModel):
 class Soles(StrictModel):
     left: Sole
     right: Sole
+
+
+#: smallest norm of a ``sole_orientation`` quaternion (a zero quaternion is no rotation)
+MIN_QUAT_NORM = 0.1
 
 
 class SoleQuats(StrictModel):
@@ -115,3 +122,16 @@ class RobotYaml(StrictModel):
     control: dict[str, Gain] = Field(default_factory=dict)
     gait: Gait = Field(default_factory=Gait)
     ik: IkWeights = Field(default_factory=IkWeights)
+
+    @field_validator("sole_orientation")
+    @classmethod
+    def _unit_quats(cls, value: object) -> object:
+        if isinstance(value, SoleQuats):
+            for side in ("left", "right"):
+                q = getattr(value, side)
+                if sum(x * x for x in q) ** 0.5 < MIN_QUAT_NORM:
+                    raise ValueError(
+                        f"a quaternion [w, x, y, z] of norm >= {MIN_QUAT_NORM} per side "
+                        f"({side}: {list(q)} is no rotation)"
+                    )
+        return value

@@ -10,8 +10,13 @@ With the base upright at the origin, the leg joints q_L (n) solve, in the least-
     x_com(q) = (x_L + x_R) / 2         CoM over the middle of the soles
     z_com(q) - z_L(q) = h              the CoM height above the soles, m
 
-starting from the knees bent by :data:`KNEE_GUESS` rad toward their larger range. Joints that are not
-leg joints stay at qpos0.
+starting from the knees bent by :data:`KNEE_GUESS` rad toward their larger range. Joints given in the
+YAML's ``standing_pose`` (``held``: arms only, no leg joint) keep their values and are not solved
+for; the other joints that are not leg joints stay at qpos0.
+
+A sole frame that no leg motion turns flat (a foot link rotated against the world with
+``sole_orientation: body``) leaves the soles tilted by more than :data:`SOLE_TILT_TOL`: the error then
+names ``sole_orientation``, not the height.
 """
 
 from __future__ import annotations
@@ -24,6 +29,8 @@ from gaitshift.errors import InputError
 
 #: first guess of the knee angle, rad (toward the larger side of the knee's range)
 KNEE_GUESS = 0.6
+#: a sole left tilted by more than this (rad) when the IK stops has a wrong frame, not a wrong height
+SOLE_TILT_TOL = 0.05
 
 
 def _rot_err(R: np.ndarray) -> np.ndarray:
@@ -32,38 +39,59 @@ def _rot_err(R: np.ndarray) -> np.ndarray:
     return 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
 
 
-def guess_qpos(model: Any, knees: list[int]) -> np.ndarray:
-    """qpos0 with the base upright at the origin and the ``knees`` bent by :data:`KNEE_GUESS` rad toward
-    the larger side of their range (positive when unlimited), (nq,)."""
+def guess_qpos(model: Any, knees: list[int], held: dict[str, float] | None = None) -> np.ndarray:
+    """qpos0 with the base upright at the origin, the ``knees`` bent by :data:`KNEE_GUESS` rad toward
+    the larger side of their range (positive when unlimited) and the ``held`` joints {name: rad} at
+    their values, (nq,)."""
     q = np.asarray(model.qpos0, float).copy()
     q[:3], q[3:7] = 0.0, (1.0, 0.0, 0.0, 0.0)
     for k in knees:
         lo, hi = model.jnt_range[k] if model.jnt_limited[k] else (-np.inf, np.inf)
         q[model.jnt_qposadr[k]] = KNEE_GUESS if hi >= -lo else -KNEE_GUESS
+    for name, angle in (held or {}).items():
+        q[model.jnt_qposadr[model.joint(name).id]] = angle
     return q
 
 
+def _tilt(R: np.ndarray) -> float:
+    """Angle of a frame's z axis from the vertical, rad."""
+    return float(np.arccos(np.clip(R[2, 2], -1.0, 1.0)))
+
+
 def computed_standing_pose(
-    model: Any, sites: tuple[int, int], legs: list[list[int]], knees: list[int], roll: list[bool], height: float
+    model: Any,
+    sites: tuple[int, int],
+    legs: list[list[int]],
+    knees: list[int],
+    roll: list[bool],
+    height: float,
+    held: dict[str, float] | None = None,
+    orientation: object = "body",
 ) -> dict[str, float]:
-    """Leg joint angles {name: rad} of the standing pose with the CoM ``height`` m above the soles.
+    """Angles {name: rad} of the standing pose with the CoM ``height`` m above the soles: the ``held``
+    joints as given, the other leg joints solved.
 
     Raises:
-        InputError: no pose reaches ``height`` with flat soles (residual above 0.1 mm).
+        InputError: no pose reaches ``height`` with flat soles (residual above 0.1 mm), naming
+            ``sole_orientation`` (the YAML value ``orientation``) when a sole stays tilted by more than
+            :data:`SOLE_TILT_TOL`, else ``com_height``.
 
     Args:
         model: the model with the sole sites; sites: their ids (left, right).
         legs: joint ids of each leg; knees: the knee joint ids; roll: whether each leg can roll its foot.
         height: CoM height above the soles, m.
+        held: joints {name: rad} given by the YAML's ``standing_pose``, kept.
+        orientation: the YAML's ``sole_orientation`` (for the error message).
     """
     import mujoco
 
+    held = dict(held or {})
     d = mujoco.MjData(model)
-    q = guess_qpos(model, knees)
+    q = guess_qpos(model, [k for k in knees if model.joint(k).name not in held], held)
     d.qpos[:] = q
     mujoco.mj_kinematics(model, d)
     y0 = [float(d.site_xpos[s][1]) for s in sites]
-    joints = [j for leg in legs for j in leg]
+    joints = [j for leg in legs for j in leg if model.joint(j).name not in held]
     qadr = np.array([model.jnt_qposadr[j] for j in joints])
     dofs = np.array([model.jnt_dofadr[j] for j in joints])
     rng = np.array([model.jnt_range[j] if model.jnt_limited[j] else (-np.inf, np.inf) for j in joints])
@@ -98,9 +126,25 @@ def computed_standing_pose(
         dq = np.linalg.solve(A.T @ A + 1e-6 * np.eye(len(joints)), -A.T @ r)
         q[qadr] = np.clip(q[qadr] + dq, rng[:, 0], rng[:, 1])
     if np.max(np.abs(r)) > 1e-4:
-        raise InputError(
-            "robot.com_height",
-            round(height, 4),
-            f"a reachable standing CoM height (IK residual {np.max(np.abs(r)):.2g})",
+        raise _unreached(d, sites, float(np.max(np.abs(r))), height, orientation)
+    return held | {model.joint(j).name: float(q[model.jnt_qposadr[j]]) for j in joints}
+
+
+def _unreached(d: Any, sites: tuple[int, int], residual: float, height: float, orientation: object) -> InputError:
+    """The error of a standing pose the IK did not reach (residual, m or rad): ``sole_orientation`` when a
+    sole stays tilted by more than :data:`SOLE_TILT_TOL` (the legs cannot turn it flat), else ``com_height``."""
+    tilts = [_tilt(d.site_xmat[s].reshape(3, 3)) for s in sites]
+    if max(tilts) > SOLE_TILT_TOL:
+        side = "left" if tilts[0] >= tilts[1] else "right"
+        return InputError(
+            "robot.sole_orientation",
+            orientation,
+            f"a sole frame the legs can turn flat (the {side} sole's normal stays "
+            f"{np.degrees(max(tilts)):.1f} deg from vertical; set sole_orientation: geoms, or a "
+            "quaternion per side)",
         )
-    return {model.joint(j).name: float(q[model.jnt_qposadr[j]]) for j in joints}
+    return InputError(
+        "robot.com_height",
+        round(height, 4),
+        f"a reachable standing CoM height (IK residual {residual:.2g})",
+    )

@@ -31,6 +31,8 @@ from gaitshift.robots.config import RobotConfig
 LEVEL_TOL = math.radians(1.0)
 #: weight of ||w||² that makes the least-torque wrench distribution unique (N⁻², N⁻² m⁻²)
 WRENCH_REGULARISATION = 1e-9
+#: contact points whose spread (product of their two principal extents, m²) is below this span no area
+FLAT_AREA = 1e-8
 
 
 @dataclass(frozen=True)
@@ -42,6 +44,8 @@ class Statics:
         heading: (2,) angle of each sole's x axis from the base's x axis in the ground plane, rad.
         com_margin: signed distance of the CoM's ground projection inside the support polygon, m
             (negative: outside).
+        support_area: False when the soles' contact points lie on a line in the ground plane (no support
+            polygon: a sole frame on its edge).
         torque: (J,) static joint torques, N m (order of ``RobotConfig.joint_names``).
         torque_fraction: (J,) |τ| / τ_max (0 where the model gives no limit).
         normal_force: (2,) vertical force on each sole, N.
@@ -50,18 +54,27 @@ class Statics:
     tilt: np.ndarray
     heading: np.ndarray
     com_margin: float
+    support_area: bool
     torque: np.ndarray
     torque_fraction: np.ndarray
     normal_force: np.ndarray
 
 
-def _support_margin(points: np.ndarray, p: np.ndarray) -> float:
-    """Signed distance (m) of ``p`` (2,) inside the convex hull of ``points`` (n, 2)."""
+def _support_margin(points: np.ndarray, p: np.ndarray) -> tuple[float, bool]:
+    """Signed distance (m) of ``p`` (2,) inside the convex hull of ``points`` (n, 2), and whether that hull
+    has an area. Points on a line (or one point: soles seen edge-on, :data:`FLAT_AREA` m²) span no
+    polygon: the distance is then minus the distance of ``p`` to their segment (never inside)."""
     from scipy.spatial import ConvexHull
 
+    centred = points - points.mean(axis=0)
+    _, sv, vt = np.linalg.svd(centred, full_matrices=False)
+    if len(points) < 3 or sv[-1] * sv[0] <= FLAT_AREA:
+        axis = vt[0]
+        s = np.clip((p - points.mean(axis=0)) @ axis, (centred @ axis).min(), (centred @ axis).max())
+        return -float(np.linalg.norm(p - points.mean(axis=0) - s * axis)), False
     hull = ConvexHull(points)
     # hull.equations: n·x + c <= 0 inside, n unit
-    return float(-np.max(hull.equations[:, :2] @ p + hull.equations[:, 2]))
+    return float(-np.max(hull.equations[:, :2] @ p + hull.equations[:, 2])), True
 
 
 def _standing_data(robot: RobotConfig) -> tuple[Any, Any]:
@@ -88,7 +101,7 @@ def standing_statics(robot: RobotConfig) -> Statics:
         x = R[:2, 0]
         heading[i] = math.atan2(float(base_x[0] * x[1] - base_x[1] * x[0]), float(base_x[:2] @ x))
         pts.append(d.site_xpos[s] + robot.soles[i].points @ R.T)
-    margin = _support_margin(np.vstack(pts)[:, :2], d.subtree_com[1][:2])
+    margin, area = _support_margin(np.vstack(pts)[:, :2], d.subtree_com[1][:2])
     # gravity's generalized force: qfrc_bias with zero velocity
     g = d.qfrc_bias.copy()
     jp, jr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
@@ -108,4 +121,4 @@ def standing_statics(robot: RobotConfig) -> Statics:
     w = np.linalg.lstsq(K, np.concatenate([A.T @ b, g[:6]]), rcond=None)[0][:12]
     tau = g[dofs] - Jt[dofs] @ w
     frac = np.where(np.isfinite(lim), np.abs(tau) / np.where(np.isfinite(lim), lim, 1.0), 0.0)
-    return Statics(tilt, heading, margin, tau, frac, np.array([w[2], w[8]]))
+    return Statics(tilt, heading, margin, area, tau, frac, np.array([w[2], w[8]]))

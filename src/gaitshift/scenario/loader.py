@@ -3,6 +3,10 @@ names (:data:`SCHEMAS`, the one registry of scenario schemas).
 
 Built-in scenarios are the YAML files of ``gaitshift/scenario/builtin``. Every failure becomes one
 :class:`~gaitshift.errors.ScenarioError` that names the dotted field, the value and what is allowed.
+
+A relative robot YAML path in a scenario file (``robot: ../robots/mine.yaml``) is relative to the
+scenario file's folder, as ``mjcf:`` is in a robot YAML (not to the working directory); the loaded
+scenario holds it as an absolute path.
 """
 
 from __future__ import annotations
@@ -56,11 +60,21 @@ def load_scenario(name_or_path: str | Path | dict[str, Any]) -> Any:
         raise ScenarioError("planner", short_repr(planner), "one of: " + ", ".join(SCHEMAS))
     if "name" not in data and origin is not None:
         data["name"] = Path(origin).stem
+    if origin is not None and origin not in builtin_names():
+        data["robot"] = robot_path_from(data.get("robot"), Path(origin).parent)
     schema = SCHEMAS[planner]
     try:
         return schema.model_validate(data)
     except ValidationError as exc:
         raise input_error(exc, schema, ScenarioError) from None
+
+
+def robot_path_from(robot: Any, folder: Path) -> Any:
+    """``robot`` made absolute from ``folder`` when it is a relative robot YAML path (a name, an
+    absolute path or anything else is returned as is)."""
+    if not isinstance(robot, str) or Path(robot).suffix.lower() not in YAML_SUFFIXES or Path(robot).is_absolute():
+        return robot
+    return str((folder / robot).resolve())
 
 
 def _read(key: str) -> str:

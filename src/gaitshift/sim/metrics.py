@@ -10,6 +10,9 @@
   mean measured forward CoM speed over the step from the 3rd to the 4th take-off after it (the online
   generator reaches a command at the take-off of the second step after the one already planned),
   minus the command; the plan's own mean speed over the same window is reported alongside;
+* ``mean_forward_speed_max`` ("max step speed"): the largest mean forward CoM speed over one step
+  (between consecutive planned touchdowns reached), forward being the plan's heading at each tick
+  (:func:`forward_distance`), so that a turning run reads its speed and not its world-x part;
 * peak |tau| / tau_max over all joints and ticks;
 * ``legs_touch_time`` and ``feet_overlap_time``: how long the two legs touched each other, s
   (:mod:`gaitshift.sim.leg_clearance`);
@@ -128,14 +131,26 @@ def _speed_errors(a: dict[str, np.ndarray], traj: Trajectory, t_end: float) -> l
     return errs
 
 
+def forward_distance(a: dict[str, np.ndarray], traj: Trajectory) -> np.ndarray:
+    """Distance travelled forward by the measured CoM in the plan's heading frame, from the first tick, m
+    (one per tick): the sum over ticks of the horizontal displacement along the plan's heading at the
+    middle of the tick (mean of the headings at its two ends)."""
+    psi = traj.heading[a["plan_index"]]
+    mid = psi[:-1] + 0.5 * ((np.diff(psi) + math.pi) % (2.0 * math.pi) - math.pi)
+    dp = np.diff(a["com_pos"][:, :2], axis=0)
+    ahead = dp[:, 0] * np.cos(mid) + dp[:, 1] * np.sin(mid)
+    return np.concatenate([[0.0], np.cumsum(ahead)])
+
+
 def _step_mean_speed(a: dict[str, np.ndarray], traj: Trajectory, land: np.ndarray, t_end: float) -> np.ndarray:
-    """Mean forward CoM speed between consecutive planned touchdowns reached, m/s."""
+    """Mean forward CoM speed in the heading frame between consecutive planned touchdowns reached, m/s
+    (:func:`forward_distance`: a turn at a constant speed reads that speed, not its world-x part)."""
     tl = traj.t[land]
     tl = tl[tl <= t_end]
     if len(tl) < 2:
         return np.zeros(0)
-    x = np.interp(tl, a["t"], a["com_pos"][:, 0])
-    speed: np.ndarray = np.diff(x) / np.diff(tl)
+    s = np.interp(tl, a["t"], forward_distance(a, traj))
+    speed: np.ndarray = np.diff(s) / np.diff(tl)
     return speed
 
 
@@ -176,7 +191,7 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
     out["qp_failures"] = int(np.sum(~a["qp_ok"]))
     for key in ("legs_touch", "feet_overlap"):  # logs older than these keys: 0
         out[f"{key}_time"] = float(np.sum(a[key]) * dt) if key in a else 0.0
-    # top speed held: mean forward CoM speed between consecutive planned touchdowns reached
+    # top speed held: mean forward CoM speed (heading frame) between consecutive planned touchdowns reached
     out["mean_forward_speed_max"] = float(np.max(_step_mean_speed(a, traj, land, t_end), initial=0.0))
     out.update(stride_speed_errors(a, traj))
     out.update(heading_errors(a, traj))

@@ -7,6 +7,8 @@ Checks, each a :class:`Finding` (one line; ``ok`` False is a problem):
 * **balance**: the CoM's ground projection is inside the support polygon of the two soles;
 * **static torque**: the least joint torques that hold the standing pose against gravity, as a fraction
   of the model's torque limits (> 1: the robot cannot stand);
+* **standing limits**: a joint within :data:`STANDING_LIMIT_TOL` of its range limit in the standing pose
+  (given in the YAML or left at qpos0) is a problem: it has no room to move one way;
 * with a scenario, **reach and joint limits**: the whole-body IK (:mod:`gaitshift.wholebody.ik`) follows
   the plan at :data:`~gaitshift.wholebody.checks.CHECK_RATE` Hz within its tolerances (a foot out of
   reach, a straight knee or a joint held at its limit is reported with the time and the joint);
@@ -30,6 +32,8 @@ from gaitshift.trajectory.contract import Trajectory
 
 #: largest angle between a sole's x axis and the base's x axis in the standing pose, rad
 HEADING_TOL = math.radians(45.0)
+#: a joint this close to its range limit in the standing pose (rad) is at the limit
+STANDING_LIMIT_TOL = 0.01
 
 
 @dataclass(frozen=True)
@@ -58,14 +62,7 @@ def _sole_findings(robot: RobotConfig) -> list[Finding]:
         if not ok:
             text += " (set sole_orientation: geoms, or a quaternion per side, in the robot YAML)"
         out.append(Finding("sole frame", ok, text))
-    out.append(
-        Finding(
-            "balance",
-            st.com_margin > 0,
-            f"CoM {abs(st.com_margin) * 1e3:.1f} mm {'inside' if st.com_margin > 0 else 'OUTSIDE'} the support "
-            "polygon of the soles in the standing pose",
-        )
-    )
+    out.append(_balance_finding(st.com_margin, st.support_area))
     j = int(np.argmax(st.torque_fraction))
     frac = float(st.torque_fraction[j])
     out.append(
@@ -77,6 +74,44 @@ def _sole_findings(robot: RobotConfig) -> list[Finding]:
         )
     )
     return out
+
+
+def _standing_limit_findings(robot: RobotConfig) -> list[Finding]:
+    """A PROBLEM per joint at its range limit in the standing pose, else the closest approach (ok)."""
+    model = robot.model()
+    qadr = np.array([model.jnt_qposadr[model.joint(n).id] for n in robot.joint_names])
+    q = robot.standing_qpos(model)[qadr]
+    lo, hi = robot.joint_range[:, 0], robot.joint_range[:, 1]
+    gap = np.minimum(q - lo, hi - q)
+
+    def text(j: int) -> str:
+        return f"{robot.joint_names[j]} = {q[j]:.3f} rad, range [{lo[j]:.3f}, {hi[j]:.3f}] rad"
+
+    out = [
+        Finding("standing limits", False, f"{text(j)}: at its range limit in the standing pose")
+        for j in (int(i) for i in np.flatnonzero(gap <= STANDING_LIMIT_TOL))
+    ]
+    if out or not np.any(np.isfinite(gap)):
+        return out
+    j = int(np.argmin(gap))
+    return [Finding("standing limits", True, f"closest approach {gap[j]:.3f} rad ({text(j)})")]
+
+
+def _balance_finding(margin: float, area: bool) -> Finding:
+    """The CoM's ground projection against the support polygon (``margin`` m, > 0 inside)."""
+    if not area:
+        return Finding(
+            "balance",
+            False,
+            f"the soles' contact points lie on a line in the standing pose: no support polygon (CoM "
+            f"{abs(margin) * 1e3:.1f} mm from it; check sole_orientation in the robot YAML)",
+        )
+    return Finding(
+        "balance",
+        margin > 0,
+        f"CoM {abs(margin) * 1e3:.1f} mm {'inside' if margin > 0 else 'OUTSIDE'} the support "
+        "polygon of the soles in the standing pose",
+    )
 
 
 def _plan_findings(robot: RobotConfig, traj: Trajectory) -> list[Finding]:
@@ -158,7 +193,7 @@ def _speed_findings(robot: RobotConfig, peak: np.ndarray) -> list[Finding]:
 
 def robot_check(robot: RobotConfig, traj: Trajectory | None = None) -> list[Finding]:
     """Every finding for ``robot`` (standing pose) and, given a plan ``traj``, for its motion."""
-    out = _sole_findings(robot)
+    out = _sole_findings(robot) + _standing_limit_findings(robot)
     if traj is not None:
         out += _plan_findings(robot, traj)
     return out

@@ -41,18 +41,22 @@ robot walks the same gait when every length scales with its legs. The rule:
    tau_max: no-load speed tau_max / b) needs smaller joint excursions per step than geometric
    similarity gives.
 
-Angles (yaw, yaw rate), gravity and the sampling step are unchanged.
+Angles (yaw, yaw rate), gravity and the sampling step are unchanged. A ``planner: locomotion`` scenario
+(live commands) follows the same rule on the keys it sets; the keys it leaves out default from the new
+robot (:mod:`gaitshift.wholebody.scaling_locomotion`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.scenario import load_scenario
+from gaitshift.wholebody.scaling_locomotion import locomotion_height, scale_locomotion_data
 
 #: Dotted keys multiplied by lambda, per planner (lengths, and speeds of a gait whose timing is kept).
 LENGTH_KEYS: dict[str, tuple[str, ...]] = {
@@ -89,11 +93,34 @@ TIME_KEYS: dict[str, tuple[str, ...]] = {
 TIME_SCALES = ("keep", "froude")
 
 
+def _locomotion_height(scenario: Any) -> float:
+    from gaitshift.api import robot_facts
+
+    return locomotion_height(scenario, robot_facts(scenario))
+
+
+#: the nominal CoM height of a scenario, m, per planner (locomotion: the height its keys resolve to on
+#: its own robot, :mod:`gaitshift.wholebody.scaling_locomotion`)
+NOMINAL_HEIGHT: dict[str, Callable[[Any], float]] = {
+    "tvlip": lambda sc: float(sc.height),
+    "vhip": lambda sc: float(sc.heights.stand),
+    "locomotion": _locomotion_height,
+}
+#: planners whose dumped scenario is scaled by their own function (data, robot, lambda, tau), in place
+DATA_SCALERS: dict[str, Callable[[dict[str, Any], RobotConfig, float, float], None]] = {
+    "locomotion": scale_locomotion_data,
+}
+
+
 def nominal_height(scenario: Any) -> float:
-    """The scenario's nominal CoM height, m: ``height`` (TV-LIPM) or ``heights.stand`` (VHIP)."""
-    if scenario.planner == "vhip":
-        return float(scenario.heights.stand)
-    return float(scenario.height)
+    """The scenario's nominal CoM height, m: ``height`` (TV-LIPM), ``heights.stand`` (VHIP), or what a
+    locomotion scenario resolves to on its robot (:data:`NOMINAL_HEIGHT`).
+
+    Raises:
+        InputError: a planner that cannot be scaled."""
+    if scenario.planner not in NOMINAL_HEIGHT:
+        raise InputError("planner", scenario.planner, "a scenario of: " + ", ".join(NOMINAL_HEIGHT))
+    return NOMINAL_HEIGHT[scenario.planner](scenario)
 
 
 def scale_factor(scenario: Any, robot: str | Path | RobotConfig) -> float:
@@ -125,29 +152,11 @@ def scale_scenario(
     tau = math.sqrt(lam) if time_scale == "froude" else 1.0
     data = scenario.model_dump(mode="python")
     data["robot"] = robot.source or robot.name
-    for key in TIME_KEYS.get(scenario.planner, ()):
-        _scale_path(data, key, tau)
-    if scenario.planner == "tvlip":
-        data["height"] = robot.com_height
-    for key in LENGTH_KEYS.get(scenario.planner, ()):
-        _scale_path(data, key, lam)
-    if scenario.planner == "vhip":
-        data["heights"]["stand"] = robot.com_height
-        v = lam / tau
-        data["commands"] = [dict(c, t=c["t"] * tau, vx=c["vx"] * v, vy=c["vy"] * v) for c in data["commands"]]
-    if isinstance(data.get("foot"), dict) and "size" in data["foot"]:
-        data["foot"]["size"] = list(robot.sole_size)
+    if scenario.planner in DATA_SCALERS:
+        DATA_SCALERS[scenario.planner](data, robot, lam, tau)
+    else:
+        _scale_paper(data, scenario.planner, robot, lam, tau)
     width = robot.step_width if robot.step_width is not None else robot.foot_separation
-    if scenario.planner == "vhip":
-        data["step_width"] = width
-    if isinstance(data.get("profile"), dict) and "step_width" in data["profile"]:
-        data["profile"]["step_width"] = width
-    if isinstance(data.get("timing"), dict) and data["timing"].get("flight") is not None:
-        data["timing"]["flight"] *= robot.flight_scale
-    _scale_steps(data, scenario.planner, robot.step_time_scale)
-    _apply_gait_caps(data, scenario.planner, robot)
-    if data.get("footsteps"):
-        data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
     data["name"] = name or f"{robot.name}-{scenario.name}"
     desc = data.get("description", "")
     data["description"] = (
@@ -162,6 +171,33 @@ def scale_scenario(
         + ")"
     ).strip(" -")
     return load_scenario(data)
+
+
+def _scale_paper(data: dict[str, Any], planner: str, robot: RobotConfig, lam: float, tau: float) -> None:
+    """Rules 1-5 on a dumped TV-LIPM or VHIP scenario ``data``, in place."""
+    width = robot.step_width if robot.step_width is not None else robot.foot_separation
+    for key in TIME_KEYS.get(planner, ()):
+        _scale_path(data, key, tau)
+    if planner == "tvlip":
+        data["height"] = robot.com_height
+    for key in LENGTH_KEYS.get(planner, ()):
+        _scale_path(data, key, lam)
+    if planner == "vhip":
+        data["heights"]["stand"] = robot.com_height
+        v = lam / tau
+        data["commands"] = [dict(c, t=c["t"] * tau, vx=c["vx"] * v, vy=c["vy"] * v) for c in data["commands"]]
+    if isinstance(data.get("foot"), dict) and "size" in data["foot"]:
+        data["foot"]["size"] = list(robot.sole_size)
+    if planner == "vhip":
+        data["step_width"] = width
+    if isinstance(data.get("profile"), dict) and "step_width" in data["profile"]:
+        data["profile"]["step_width"] = width
+    if isinstance(data.get("timing"), dict) and data["timing"].get("flight") is not None:
+        data["timing"]["flight"] *= robot.flight_scale
+    _scale_steps(data, planner, robot.step_time_scale)
+    _apply_gait_caps(data, planner, robot)
+    if data.get("footsteps"):
+        data["footsteps"] = [[x * lam, y * lam, z * lam, yaw] for x, y, z, yaw in data["footsteps"]]
 
 
 def _scale_steps(data: dict[str, Any], planner: str, s: float) -> None:
@@ -207,11 +243,18 @@ def _scale_path(data: dict[str, Any], dotted: str, lam: float) -> None:
         raise InputError(dotted, v, "a length (number or list of numbers) to scale")
 
 
-def scenario_yaml(scenario: Any, header: str = "") -> str:
-    """YAML text of a scenario (``gaitshift scale --out``), floats to 12 significant digits."""
+def scenario_yaml(scenario: Any, header: str = "", folder: Path | None = None) -> str:
+    """YAML text of a scenario (``gaitshift scale --out``), floats to 12 significant digits; with
+    ``folder`` (the output file's), a robot given by an absolute YAML path is written relative to it
+    (the loader resolves it from the scenario file's folder)."""
+    import os
+
     import yaml
 
     data = scenario.model_dump(mode="json")
+    robot = data.get("robot")
+    if folder is not None and isinstance(robot, str) and Path(robot).is_absolute():
+        data["robot"] = Path(os.path.relpath(robot, Path(folder).resolve())).as_posix()
 
     def _round(v: Any) -> Any:
         if isinstance(v, float):
