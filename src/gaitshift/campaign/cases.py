@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import math
 from typing import Any
 
 from gaitshift.campaign.spec import CampaignSpec
@@ -60,6 +61,10 @@ def _check_scenarios(spec: CampaignSpec, values: dict[str, list[Any]]) -> None:
             raise InputError("duration", spec.duration, f"no value unless every scenario is locomotion ({name})")
 
 
+#: the most cases a campaign may expand to (a spec beyond it is refused before anything is built)
+MAX_CASES = 1_000_000
+
+
 def expand(spec: CampaignSpec, check: bool = True) -> list[dict[str, Any]]:
     """The cases of ``spec`` in product order (the last axis varies fastest), each with its
     ``case_hash``; with ``check``, scenarios and robots are loaded once to validate them.
@@ -68,6 +73,10 @@ def expand(spec: CampaignSpec, check: bool = True) -> list[dict[str, Any]]:
         InputError: a bad axis value, scenario or robot (see :meth:`CampaignSpec.axis_values`).
     """
     values = spec.axis_values()
+    count = math.prod(len(v) for v in values.values())
+    if count > MAX_CASES:
+        sizes = " x ".join(f"{n} {len(v)}" for n, v in values.items() if len(v) > 1)
+        raise InputError("axes", f"{count:.3g} cases ({sizes})", f"at most {MAX_CASES:,} cases per campaign")
     if check:
         _check_scenarios(spec, values)
     names = list(values)

@@ -18,6 +18,7 @@ import yaml
 from gaitshift.campaign.figures import SurvivalGrid, fall_time_histogram, survival_grid, survival_heatmap
 from gaitshift.campaign.store import Store
 from gaitshift.common.atomic import atomic_path
+from gaitshift.errors import InputError
 
 __all__ = ["MAPS", "robot_table", "write_report"]
 
@@ -67,8 +68,24 @@ def _grid_markdown(g: SurvivalGrid) -> list[str]:
     return lines
 
 
+def _spec_of(path: Path) -> dict[str, Any]:
+    """The campaign's spec (its name and task for the report) or {} without one; a spec that is not a
+    YAML mapping is one :class:`InputError`."""
+    if not path.exists():
+        return {}
+    try:
+        spec = yaml.safe_load(path.read_text())
+    except (yaml.YAMLError, UnicodeDecodeError, OSError) as exc:
+        raise InputError(
+            "campaign folder", str(path), f"a campaign spec in YAML ({str(exc).splitlines()[0][:80]})"
+        ) from None
+    if not isinstance(spec, dict):
+        raise InputError("campaign folder", str(path), "a campaign spec (a YAML mapping)")
+    return spec
+
+
 def _totals(store: Store, rows: list[dict[str, Any]]) -> list[str]:
-    spec = yaml.safe_load((store.root / "spec.yaml").read_text()) if (store.root / "spec.yaml").exists() else {}
+    spec = _spec_of(store.root / "spec.yaml")
     walls = [r["wall_time"] for r in rows if r["wall_time"] is not None]
     ran = [r for r in rows if r["error"] is None and r["fell"] is not None]
     lines = [

@@ -116,8 +116,15 @@ class Store:
         older version lacks are null; an empty table when there is no row)."""
         if not self.done():
             return SCHEMA.empty_table()
-        dataset = ds.dataset(self.parts, format="parquet", schema=SCHEMA)  # skips ".tmp" names
-        return dataset.to_table().sort_by("case_hash")
+        try:
+            dataset = ds.dataset(self.parts, format="parquet", schema=SCHEMA)  # skips ".tmp" names
+            return dataset.to_table().sort_by("case_hash")
+        except (pa.ArrowInvalid, pa.ArrowTypeError, OSError) as exc:
+            raise InputError(
+                "campaign folder",
+                str(self.root),
+                f"part files written by a campaign ({str(exc).splitlines()[0][:100]})",
+            ) from None
 
     def finish(self, expected: set[str]) -> bool:
         """Write the reference index and the ``complete`` marker when every ``expected`` hash has its
