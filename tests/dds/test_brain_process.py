@@ -54,7 +54,7 @@ def finish(proc, files, timeout=120.0):
             f.close()
 
 
-def start_pair(tmp_path, domain):
+def start_pair(tmp_path, domain, *extra):
     (tmp_path / "tiny.yaml").write_text(SCENARIO)
     robot = gaitshift(
         tmp_path,
@@ -78,6 +78,7 @@ def start_pair(tmp_path, domain):
         str(domain),
         "--json",
         *BRAIN_FLAGS,
+        *extra,
     )
     return robot, brain
 
@@ -122,7 +123,7 @@ def test_the_robot_killed_mid_run_sends_the_brain_to_damping_and_exit_1(tmp_path
     and exits 1 with one line naming the stale state."""
     domain = BASE_DOMAIN + 1
     listener = open_endpoint(domain, "lo", "robot")  # reads rt/lowcmd, writes nothing
-    (robot, rfiles), (brain, bfiles) = start_pair(tmp_path, domain)
+    (robot, rfiles), (brain, bfiles) = start_pair(tmp_path, domain, "--no-warm-up")
     try:
         deadline, seen = time.monotonic() + 120.0, 0
         while seen < 60 and time.monotonic() < deadline and brain.poll() is None:
@@ -157,6 +158,7 @@ def test_no_robot_is_one_line_and_exit_1(tmp_path):
         str(BASE_DOMAIN + 2),
         "--state-timeout",
         "0.3",
+        "--no-warm-up",
     )
     finish(brain, files)
     err = (tmp_path / "brain.err").read_text().strip().splitlines()

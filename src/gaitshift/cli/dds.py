@@ -70,7 +70,7 @@ def dds_control_cmd(
     iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
     as_json: bool = typer.Option(False, "--json", help="Print the run's summary as JSON (alone on stdout)."),
     lockstep: bool = typer.Option(False, "--lockstep", help="Tick once per new state instead of every 2 ms."),
-    state_timeout: float = typer.Option(5.0, "--state-timeout", help="s to wait for the robot's first state."),
+    state_timeout: float = typer.Option(10.0, "--state-timeout", help="s to wait for the robot's first state."),
     real_robot: bool = typer.Option(False, "--real-robot", help="Allow domain 0; refuse unless the robot damps."),
     stale_limit: float = typer.Option(0.02, "--stale-limit", help="s: an older state is a fault (damping)."),
     damping_time: float = typer.Option(0.1, "--damping-time", help="s of damping before the stand-up."),
@@ -79,12 +79,16 @@ def dds_control_cmd(
     tilt_limit: float = typer.Option(0.6, "--tilt-limit", help="rad of pelvis tilt taken as a fall."),
     final_damping: float = typer.Option(0.2, "--final-damping", help="s of damping written before exiting."),
     contact: str = typer.Option("torque", "--contact", help="Contact detection: torque (no foot force) or force."),
+    warm: bool = typer.Option(
+        True, "--warm-up/--no-warm-up", help="Tick a throwaway controller first (fast 1st ticks)."
+    ),
 ) -> None:
     """Run SCENARIO's controller over the protocol: rt/lowstate in, rt/lowcmd out, behind the safety
     machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Exit 0 when the plan
     ended, 1 on a fault or when no robot answers."""
     from gaitshift.common.jsonsafe import finite_json
-    from gaitshift.dds.brain import BrainOptions, run_brain
+    from gaitshift.dds.brain import BrainOptions, build_controller, run_brain
+    from gaitshift.dds.warmup import warm_up
 
     opts = BrainOptions(
         scenario=scenario,
@@ -103,8 +107,14 @@ def dds_control_cmd(
         contact=contact,
     )
     mode = "lockstep" if lockstep else "real time"
-    typer.echo(f"{scenario} on DDS domain {domain} over {iface} ({mode}): rt/lowstate in, rt/lowcmd out", err=True)
-    s = run_brain(opts)
+    ctrl = build_controller(opts)
+    if warm:
+        typer.echo(f"warm-up: {warm_up(build_controller(opts)):.2f} s", err=True)
+    typer.echo(
+        f"{scenario} on DDS domain {domain} over {iface} ({mode}): waiting up to {state_timeout:g} s for rt/lowstate",
+        err=True,
+    )
+    s = run_brain(opts, ctrl=ctrl)
     if as_json:
         typer.echo(json.dumps(finite_json(s.as_dict()), indent=2, allow_nan=False))
     if s.exit_code:

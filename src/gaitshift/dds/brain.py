@@ -63,7 +63,7 @@ class BrainOptions:
     domain: int = 1
     iface: str = "lo"
     lockstep: bool = False
-    state_timeout: float = 5.0
+    state_timeout: float = 10.0
     real_robot: bool = False
     stale: float = 0.02
     damping_time: float = 0.1
