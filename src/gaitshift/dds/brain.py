@@ -15,7 +15,10 @@ Pacing: real time by default (tick ``k`` due at ``t0 + k period`` on the wall cl
 controller's clock the wall clock; a tick that ends over a period after it was due is a missed deadline,
 and the ticks it overran are skipped); with ``lockstep`` one tick per new state (``LowState_.tick``
 changed), the clocks counting periods, and a state is stale when none came within ``stale`` s of the last
-command. The run ends ``final_damping`` s (wall time) after the machine entered ``stop`` or ``fault``.
+command. A tick's duration runs from the wake-up (real time: the take and deserialization of the states
+included) or from the new state's arrival (lockstep) to the command written. The run ends
+``final_damping`` s (wall time) after the machine entered ``stop`` or ``fault``. A state's age is the time
+since a state of a new tick was last taken (the robot's clock is not compared with the brain's).
 Exit codes (:attr:`BrainSummary.exit_code`): 0 the plan ended (or SIGINT/SIGTERM) and the robot damps; 1 a
 fault, no state within ``state_timeout`` s, or a real robot that is not damping at start.
 """
@@ -276,13 +279,14 @@ def _loop(brain: _Brain, signals: _Signals) -> None:
         if opts.lockstep:
             age = brain.wait_lockstep()
             t, due = k * period, time.perf_counter()
+            start = due
         else:
             due = wall0 + k * period
             time.sleep(max(due - time.perf_counter(), 0.0))
+            start = time.perf_counter()
             brain.take()
-            t = time.perf_counter() - wall0
+            t = start - wall0
             age = time.perf_counter() - brain.arrival
-        start = time.perf_counter()
         if signals.why:
             safety.stop(t, f"stopped by {signals.why}")
         kind = brain.control(t, age)
