@@ -202,6 +202,7 @@ class _Brain:
         while self.state is None and time.perf_counter() < end:
             self.endpoint.wait(min(0.05, max(end - time.perf_counter(), 0.0)))
             self.take()
+        self.written = time.perf_counter()  # the stale clock starts with the first state
         return self.state is not None
 
     def wait_lockstep(self) -> float:
@@ -210,7 +211,7 @@ class _Brain:
         limit = self.opts.stale
         while True:
             count = self.received
-            if self.take():
+            if self.take() or self.state.tick != self.handled:  # the state held may be new (the first one)
                 return 0.0
             if self.received > count and not self.safety.ended:  # the robot repeated the state: resend
                 self.write(self.last)
