@@ -5,7 +5,7 @@ test_robot_process.py; the loopback configuration sends nothing elsewhere). On a
 fall, the pelvis moved forward as far as the plan within 5 cm, and the last command the robot received is
 damping. With the robot killed mid-run the brain finds the state stale, writes damping and exits 1 with one
 line saying so; with no robot at all it says so in one line and exits 1; domain 0 without --real-robot is
-refused (exit 2) before any DDS traffic."""
+refused (exit 2) before any DDS traffic, as is a flag out of its range."""
 
 import json
 import os
@@ -169,7 +169,18 @@ def test_no_robot_is_one_line_and_exit_1(tmp_path):
     )
 
 
-def test_domain_0_needs_the_real_robot_flag(cli):
-    """A real robot's domain without --real-robot: one line, exit 2, nothing opened."""
-    code, _, err = cli(["dds", "control", "g1-walk", "--domain", "0"])
-    assert code == 2 and err.startswith("gaitshift: error: --domain = 0 is invalid") and err.count("\n") == 1
+@pytest.mark.parametrize(
+    ("flags", "name"),
+    [
+        (["--domain", "0"], "--domain"),
+        (["--stale-limit", "0"], "--stale-limit"),
+        (["--tilt-limit", "3"], "--tilt-limit"),
+        (["--standup-time", "0"], "--standup-time"),
+        (["--state-timeout", "-1"], "--state-timeout"),
+    ],
+)
+def test_a_bad_flag_or_domain_0_without_the_real_robot_flag_is_one_line_and_exit_2(cli, flags, name):
+    """Refused before any controller is built or DDS opened: one line naming the flag, exit 2 (domain 0, a
+    real robot's, needs --real-robot)."""
+    code, _, err = cli(["dds", "control", "g1-walk", *flags])
+    assert code == 2 and err.startswith(f"gaitshift: error: {name} = ") and err.count("\n") == 1

@@ -37,7 +37,7 @@ from gaitshift.dds.convert import frame_from_lowstate, lowcmd_from_command
 from gaitshift.dds.crc import lowstate_crc
 from gaitshift.dds.g1 import check_motor_order
 from gaitshift.dds.gravity import standing_torques
-from gaitshift.dds.safety import Limits, Safety, SafetySettings, standup_gains
+from gaitshift.dds.safety import Limits, Safety, SafetySettings, check_settings, standup_gains
 from gaitshift.dds.ticklog import TickLog
 from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint
 from gaitshift.errors import GaitshiftError, InputError, number_in
@@ -81,6 +81,7 @@ class BrainOptions:
         check_domain(self.domain)
         if self.domain == 0 and not self.real_robot:
             raise InputError("--domain", 0, "1-232 for a simulated robot; domain 0 is a real robot: add --real-robot")
+        check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)
         number_in("--state-timeout", self.state_timeout, (0.01, 600.0), "s")
         number_in("--final-damping", self.final_damping, (0.0, 60.0), "s")
 

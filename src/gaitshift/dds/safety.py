@@ -28,7 +28,7 @@ import numpy as np
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.errors import InputError, number_in
 
-__all__ = ["PHASES", "Limits", "Safety", "SafetySettings", "standup_gains", "tilt_angle"]
+__all__ = ["PHASES", "Limits", "Safety", "SafetySettings", "check_settings", "standup_gains", "tilt_angle"]
 
 #: the phases, in the order a run goes through them (``fault`` may follow any)
 PHASES = ("damping", "stand-up", "locomotion", "stop", "fault")
@@ -91,11 +91,18 @@ class SafetySettings:
     speed_margin: float = 1.5
 
     def __post_init__(self) -> None:
-        number_in("--damping-time", self.damping_time, (0.0, 60.0), "s")
-        number_in("--standup-time", self.standup_time, (0.01, 60.0), "s")
-        number_in("--damping-kd", self.damping_kd, (0.0, 20.0), "N m s/rad")
-        number_in("--stale-limit", self.stale, (1e-3, 10.0), "s")
-        number_in("--tilt-limit", self.tilt, (0.05, 1.5), "rad")
+        check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)
+
+
+def check_settings(damping_time: float, standup_time: float, damping_kd: float, stale: float, tilt: float) -> None:
+    """:class:`InputError` naming the command-line flag of the first setting out of its range (s, N m s/rad,
+    rad): damping_time [0, 60], standup_time [0.01, 60], damping_kd [0, 20], stale [0.001, 10], tilt
+    [0.05, 1.5]."""
+    number_in("--damping-time", damping_time, (0.0, 60.0), "s")
+    number_in("--standup-time", standup_time, (0.01, 60.0), "s")
+    number_in("--damping-kd", damping_kd, (0.0, 20.0), "N m s/rad")
+    number_in("--stale-limit", stale, (1e-3, 10.0), "s")
+    number_in("--tilt-limit", tilt, (0.05, 1.5), "rad")
 
 
 def standup_gains(tau_max: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
