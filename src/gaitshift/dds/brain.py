@@ -44,6 +44,8 @@ from gaitshift.errors import GaitshiftError, InputError, number_in
 
 __all__ = ["BrainOptions", "BrainSummary", "build_controller", "passive_at_start", "run_brain"]
 
+#: s after a command before a repeated state gets it again in lockstep (longer than the robot's 0.02 s resend)
+LOCKSTEP_RESEND = 0.05
 #: |tau_est| N m under which a motor counts as passive (zero torque) at a real robot's start
 PASSIVE_TAU = 1.0
 
@@ -208,13 +210,17 @@ class _Brain:
 
     def wait_lockstep(self) -> float:
         """Lockstep: wait for a state of a new tick; the age, s: 0 when one came, else the time since the
-        last command (>= ``stale``). A repeat of the handled state gets the last command again."""
+        last command (>= ``stale``). A repeat of the handled state over :data:`LOCKSTEP_RESEND` s after the
+        last command gets that command again."""
         limit = self.opts.stale
         while True:
             count = self.received
             if self.take() or self.state.tick != self.handled:  # the state held may be new (the first one)
                 return 0.0
-            if self.received > count and not self.safety.ended:  # the robot repeated the state: resend
+            # the robot repeated the state long after the last command: that one was lost, resend it (a
+            # repeat written while a long tick ran must not get one: the robot would step on it twice)
+            quiet = time.perf_counter() - self.written > LOCKSTEP_RESEND
+            if self.received > count and quiet and not self.safety.ended:
                 self.write(self.last)
             age = time.perf_counter() - self.written
             if self.safety.ended:  # damping to the end: at most a period per tick, a state or not
