@@ -47,18 +47,20 @@ def state(k, tau=0.0):
 
 
 def script(proc, robot, make, timeout=90.0):
-    """Answer each command with the next state ``make(k)`` until the brain exits; the commands received."""
+    """Answer each command with the next states ``make(k)`` (a list, written in order) until the brain
+    exits; the commands received."""
     k, commands, deadline = 0, [], time.monotonic() + timeout
-    robot.writer.write(make(0))
+    send = lambda k: [robot.writer.write(m) for m in make(k)]  # noqa: E731
+    send(0)
     while proc.poll() is None and time.monotonic() < deadline:
         if not robot.wait(0.05):
-            robot.writer.write(make(k))  # not seen yet (discovery): again
+            send(k)  # not seen yet (discovery): again
             continue
         got = robot.take()
         commands += got
         if got:
             k += 1
-            robot.writer.write(make(k))
+            send(k)
     return commands
 
 
@@ -74,20 +76,22 @@ def finish(proc, files):
 
 
 def test_a_nan_in_the_state_is_a_fault_and_bad_crcs_are_dropped(tmp_path):
-    """States 3-5 with a wrong CRC: dropped and counted (the brain keeps to the last good one). State 20 with
-    q[3] = NaN: damping from that tick, exit 1, the line names LowState_.motor_state.q[3]."""
+    """States 3-5 each preceded by a copy with a wrong CRC: the copies dropped and counted, the run goes on.
+    State 20 with q[3] = NaN: damping from that tick, exit 1, the line names LowState_.motor_state.q[3]."""
     domain = BASE_DOMAIN
     robot = open_endpoint(domain, "lo", "robot")
     proc, files = brain(tmp_path, domain)
 
     def make(k):
         msg = state(k)
-        if 3 <= k <= 5:
-            msg.crc ^= 1
         if k == 20:
             msg.motor_state[3].q = float("nan")
             msg.crc = lowstate_crc(msg)
-        return msg
+        if 3 <= k <= 5:  # a corrupted copy first
+            bad = state(k)
+            bad.crc ^= 1
+            return [bad, msg]
+        return [msg]
 
     try:
         commands = script(proc, robot, make)
@@ -107,7 +111,7 @@ def test_a_real_robot_holding_torque_at_start_is_refused(tmp_path):
     robot = open_endpoint(domain, "lo", "robot")
     proc, files = brain(tmp_path, domain, "--real-robot")
     try:
-        commands = script(proc, robot, lambda k: state(k, tau=5.0))
+        commands = script(proc, robot, lambda k: [state(k, tau=5.0)])
     finally:
         finish(proc, files)
     err = (tmp_path / "err").read_text().strip().splitlines()

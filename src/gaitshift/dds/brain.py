@@ -17,7 +17,7 @@ and the ticks it overran are skipped); with ``lockstep`` one tick per new state 
 changed), the clocks counting periods, and a state is stale when none came within ``stale`` s of the last
 command. A tick's duration runs from the wake-up (real time: the take and deserialization of the states
 included) or from the new state's arrival (lockstep) to the command written. The run ends
-``final_damping`` s (wall time) after the machine entered ``stop`` or ``fault``. A state's age is the time
+``final_damping`` s of the machine's clock after it entered ``stop`` or ``fault``. A state's age is the time
 since a state of a new tick was last taken (the robot's clock is not compared with the brain's).
 Exit codes (:attr:`BrainSummary.exit_code`): 0 the plan ended (or SIGINT/SIGTERM) and the robot damps; 1 a
 fault, no state within ``state_timeout`` s, or a real robot that is not damping at start.
@@ -44,8 +44,6 @@ from gaitshift.errors import GaitshiftError, InputError, number_in
 
 __all__ = ["BrainOptions", "BrainSummary", "build_controller", "passive_at_start", "run_brain"]
 
-#: s after a command before a repeated state gets it again in lockstep (longer than the robot's 0.02 s resend)
-LOCKSTEP_RESEND = 0.05
 #: |tau_est| N m under which a motor counts as passive (zero torque) at a real robot's start
 PASSIVE_TAU = 1.0
 
@@ -185,6 +183,7 @@ class _Brain:
         self.written = time.perf_counter()  # when the last command was written
         self.received = self.dropped = self.loco_ticks = 0
         self.last: MotorCommand = self.safety.damping
+        self.silent = False  # lockstep: the robot stopped answering (a stale state)
 
     def take(self) -> bool:
         """Take every state received; keep the newest with a good CRC. True when it is of a new tick."""
@@ -210,24 +209,20 @@ class _Brain:
 
     def wait_lockstep(self) -> float:
         """Lockstep: wait for a state of a new tick; the age, s: 0 when one came, else the time since the
-        last command (>= ``stale``). A repeat of the handled state over :data:`LOCKSTEP_RESEND` s after the
-        last command gets that command again."""
+        last command (>= ``stale``). A repeat of the state ticked on gets nothing: one command per state
+        (the robot steps once per command received; the writer is reliable, so a command is not lost but
+        with the robot, and then the state goes stale)."""
         limit = self.opts.stale
         while True:
-            count = self.received
             if self.take() or self.state.tick != self.handled:  # the state held may be new (the first one)
                 return 0.0
-            # the robot repeated the state long after the last command: that one was lost, resend it (a
-            # repeat written while a long tick ran must not get one: the robot would step on it twice)
-            quiet = time.perf_counter() - self.written > LOCKSTEP_RESEND
-            if self.received > count and quiet and not self.safety.ended:
-                self.write(self.last)
             age = time.perf_counter() - self.written
-            if self.safety.ended:  # damping to the end: at most a period per tick, a state or not
+            if self.silent and self.safety.ended:  # no robot to wait for: damping written every period
                 self.endpoint.wait(self.period)
                 self.take()
-                return 0.0
+                return age
             if age > limit:
+                self.silent = True
                 return age
             self.endpoint.wait(limit - age)
 
@@ -276,12 +271,11 @@ class _Brain:
 
 
 def _loop(brain: _Brain, signals: _Signals) -> None:
-    """Tick until ``final_damping`` s after the machine ended (module docstring)."""
+    """Tick until ``final_damping`` s of the machine's clock after it ended (module docstring)."""
     opts, period, safety = brain.opts, brain.period, brain.safety
     wall0 = time.perf_counter()
-    ended_at = math.inf
     k = 0
-    while time.perf_counter() - ended_at < opts.final_damping:
+    while True:
         if opts.lockstep:
             age = brain.wait_lockstep()
             t, due = k * period, time.perf_counter()
@@ -293,14 +287,14 @@ def _loop(brain: _Brain, signals: _Signals) -> None:
             brain.take()
             t = start - wall0
             age = time.perf_counter() - brain.arrival
+        if safety.ended and t - safety.since >= opts.final_damping - 0.5 * period:
+            return
         if signals.why:
             safety.stop(t, f"stopped by {signals.why}")
         kind = brain.control(t, age)
         end = time.perf_counter()
         missed = end - start > period if opts.lockstep else end - due > period
         brain.log.add(end - start, kind, missed)
-        if safety.ended and ended_at == math.inf:
-            ended_at = end
         k = k + 1 if opts.lockstep else max(k + 1, math.ceil((end - wall0) / period))
 
 
