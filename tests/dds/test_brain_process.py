@@ -1,0 +1,186 @@
+"""The brain ``gaitshift dds control`` and the robot process ``gaitshift dds robot g1`` as two real processes on
+the loopback, both in lockstep (a fresh DDS domain per test, derived from the pytest worker's pid as in
+test_robot_process.py; the loopback configuration sends nothing elsewhere). On a tiny scenario (stand, walk
+0.2 m/s for 0.5 s, stop) the brain damps, stands the robot up, walks it and stops: exit 0, the robot did not
+fall, the pelvis moved forward as far as the plan within 5 cm, and the last command the robot received is
+damping. With the robot killed mid-run the brain finds the state stale, writes damping and exits 1 with one
+line saying so; with no robot at all it says so in one line and exits 1; domain 0 without --real-robot is
+refused (exit 2) before any DDS traffic, as is a flag out of its range."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from gaitshift.dds.transport import open_endpoint
+
+#: offsets 30.. past test_robot_process.py's (0..29) on the same pid-derived base
+BASE_DOMAIN = 100 + os.getpid() % 100 + 30
+SCENARIO = """planner: locomotion
+name: tiny-walk
+robot: g1
+gait: walk
+timing: {start: 0.3, stop: 0.3}
+commands:
+  - {t: 0.0, vx: 0.2}
+stop_at: 0.5
+"""
+#: short safety phases for a test; the stale limit leaves room for a loaded machine in lockstep
+BRAIN_FLAGS = ["--lockstep", "--damping-time", "0.02", "--standup-time", "0.3", "--stale-limit", "0.3"]
+
+
+def gaitshift(tmp_path, name, *argv):
+    """``gaitshift argv`` as a process; stdout to ``name``.out, stderr to ``name``.err."""
+    code = "from gaitshift.cli import main; main()"
+    out, err = open(tmp_path / f"{name}.out", "w"), open(tmp_path / f"{name}.err", "w")  # noqa: SIM115
+    env = {**os.environ, "MUJOCO_GL": "egl"}
+    proc = subprocess.Popen([sys.executable, "-c", code, *argv], stdout=out, stderr=err, env=env)
+    return proc, (out, err)
+
+
+def finish(proc, files, timeout=120.0):
+    try:
+        proc.wait(timeout=timeout)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        for f in files:
+            f.close()
+
+
+def start_pair(tmp_path, domain, *extra):
+    (tmp_path / "tiny.yaml").write_text(SCENARIO)
+    robot = gaitshift(
+        tmp_path,
+        "robot",
+        "dds",
+        "robot",
+        "g1",
+        "--domain",
+        str(domain),
+        "--lockstep",
+        "--summary",
+        str(tmp_path / "robot.json"),
+    )
+    brain = gaitshift(
+        tmp_path,
+        "brain",
+        "dds",
+        "control",
+        str(tmp_path / "tiny.yaml"),
+        "--domain",
+        str(domain),
+        "--json",
+        *BRAIN_FLAGS,
+        *extra,
+    )
+    return robot, brain
+
+
+def last_command(listener):
+    """The newest rt/lowcmd the listener holds (its reader keeps the last 64)."""
+    cmds = listener.reader.take(N=64)
+    assert cmds, "no rt/lowcmd seen"
+    return cmds[-1]
+
+
+def is_damping(msg, n=29):
+    return all(m.mode == 1 and m.kp == 0 and m.kd > 0 and m.tau == 0 for m in msg.motor_cmd[:n])
+
+
+def test_the_brain_stands_the_robot_up_walks_the_plan_and_ends_in_damping(tmp_path):
+    """Exit 0, no fall, the distance of the plan within 5 cm, the last command damping."""
+    domain = BASE_DOMAIN
+    listener = open_endpoint(domain, "lo", "robot")  # reads rt/lowcmd, writes nothing
+    (robot, rfiles), (brain, bfiles) = start_pair(tmp_path, domain)
+    try:
+        finish(brain, bfiles, timeout=240.0)
+        cmd = last_command(listener)
+    finally:
+        robot.send_signal(signal.SIGTERM)
+        finish(robot, rfiles)
+    err = (tmp_path / "brain.err").read_text()
+    assert brain.returncode == 0, err
+    s = json.loads((tmp_path / "brain.out").read_text())
+    r = json.loads((tmp_path / "robot.json").read_text())
+    assert s["phase"] == "stop" and s["reason"] == "the plan ended" and s["locomotion_ticks"] > 500
+    assert not r["fell"], r
+    assert r["distance"] == pytest.approx(s["planned_distance"], abs=0.05)
+    assert s["planned_distance"] > 0.15
+    assert is_damping(cmd)
+    for key in ("tick_p50_ms", "tick_p99_ms", "tick_p999_ms", "missed_deadlines"):
+        assert np.isfinite(s[key])
+
+
+def test_the_robot_killed_mid_run_sends_the_brain_to_damping_and_exit_1(tmp_path):
+    """The robot process killed during the stand-up: the brain's next state is stale, it writes damping
+    and exits 1 with one line naming the stale state."""
+    domain = BASE_DOMAIN + 1
+    listener = open_endpoint(domain, "lo", "robot")  # reads rt/lowcmd, writes nothing
+    (robot, rfiles), (brain, bfiles) = start_pair(tmp_path, domain, "--no-warm-up")
+    try:
+        deadline, seen = time.monotonic() + 120.0, 0
+        while seen < 60 and time.monotonic() < deadline and brain.poll() is None:
+            if listener.wait(0.1):
+                seen += len(listener.reader.take(N=64))
+        robot.kill()
+        finish(robot, rfiles)
+        finish(brain, bfiles)
+        cmd = last_command(listener)
+    finally:
+        if robot.poll() is None:
+            robot.kill()
+    assert seen >= 60
+    err = (tmp_path / "brain.err").read_text().strip().splitlines()
+    assert brain.returncode == 1
+    assert err[-1].startswith("gaitshift: fault: state stale: the newest rt/lowstate is"), err
+    s = json.loads((tmp_path / "brain.out").read_text())
+    assert s["phase"] == "fault" and s["exit_code"] == 1
+    assert is_damping(cmd)
+
+
+def test_no_robot_is_one_line_and_exit_1(tmp_path):
+    """Nobody publishes rt/lowstate: after --state-timeout one line names the domain and the interface."""
+    (tmp_path / "tiny.yaml").write_text(SCENARIO)
+    brain, files = gaitshift(
+        tmp_path,
+        "brain",
+        "dds",
+        "control",
+        str(tmp_path / "tiny.yaml"),
+        "--domain",
+        str(BASE_DOMAIN + 2),
+        "--state-timeout",
+        "0.3",
+        "--no-warm-up",
+    )
+    finish(brain, files)
+    err = (tmp_path / "brain.err").read_text().strip().splitlines()
+    assert brain.returncode == 1
+    assert err[-1] == (
+        f"gaitshift: damping: no rt/lowstate from the robot within 0.3 s on DDS domain {BASE_DOMAIN + 2} "
+        "over lo: is the robot process running?"
+    )
+
+
+@pytest.mark.parametrize(
+    ("flags", "name"),
+    [
+        (["--domain", "0"], "--domain"),
+        (["--stale-limit", "0"], "--stale-limit"),
+        (["--tilt-limit", "3"], "--tilt-limit"),
+        (["--standup-time", "0"], "--standup-time"),
+        (["--state-timeout", "-1"], "--state-timeout"),
+    ],
+)
+def test_a_bad_flag_or_domain_0_without_the_real_robot_flag_is_one_line_and_exit_2(cli, flags, name):
+    """Refused before any controller is built or DDS opened: one line naming the flag, exit 2 (domain 0, a
+    real robot's, needs --real-robot)."""
+    code, _, err = cli(["dds", "control", "g1-walk", *flags])
+    assert code == 2 and err.startswith(f"gaitshift: error: {name} = ") and err.count("\n") == 1
