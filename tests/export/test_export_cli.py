@@ -34,6 +34,7 @@ def _cases(plan: Path, log: Path, tmp: Path):
         ([plan, "--format", "mjlab-npz", "--fps", 0], "m.npz", "--fps"),
         ([plan, "--format", "mjlab-npz", "--fps", 5000], "m.npz", "--fps"),
         ([plan, "--format", "mjlab-npz", "--fps", "fast"], "m.npz", "--fps"),
+        ([plan, "--format", "mjlab-npz", "--fps", 30], "m.npz", "--fps"),  # mjlab plays every frame at 50 Hz
         ([plan, "--format", "mjlab-npz"], "m.csv", "--out"),
         ([plan, "--format", "unitree-csv"], "m.npz", "--out"),
         ([tmp / "plan.csv", "--format", "unitree-csv"], "m.csv", "SOURCE"),

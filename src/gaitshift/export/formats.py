@@ -81,12 +81,14 @@ def write_mjlab_npz(frames: Frames, path: Path) -> None:
 
 @dataclass(frozen=True)
 class ExportFormat:
-    """One motion format: its file ``suffix``, ``default_fps`` (Hz) and ``write`` (frames, path)."""
+    """One motion format: its file ``suffix``, ``default_fps`` (Hz), ``write`` (frames, path) and, for a
+    consumer that plays every frame as one step of its own, ``fixed_fps``: the only rate it reads right."""
 
     name: str
     suffix: str
     default_fps: int
     write: Callable[[Frames, Path], None]
+    fixed_fps: int | None = None
 
 
 #: format name -> how to write it
@@ -94,6 +96,8 @@ FORMATS: dict[str, ExportFormat] = {
     f.name: f
     for f in (
         ExportFormat("unitree-csv", ".csv", 30, write_unitree_csv),
-        ExportFormat("mjlab-npz", ".npz", 50, write_mjlab_npz),
+        # mjlab's MotionLoader ignores the file's fps and plays one frame per 50 Hz step of its
+        # tracking task (1.6.0): a 30 fps file would play 1.67 times too fast
+        ExportFormat("mjlab-npz", ".npz", 50, write_mjlab_npz, fixed_fps=50),
     )
 }

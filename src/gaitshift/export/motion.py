@@ -33,6 +33,9 @@ def check_request(fmt: str, fps: int | None, out: str | Path) -> tuple[ExportFor
     rate = spec.default_fps if fps is None else fps
     if isinstance(rate, bool) or not isinstance(rate, int) or not 1 <= rate <= MAX_FPS:
         raise InputError("fps", fps, f"an integer frame rate in [1, {MAX_FPS}] Hz")
+    if spec.fixed_fps is not None and rate != spec.fixed_fps:
+        allowed = f"{spec.fixed_fps} Hz for {fmt} (the consumer plays one frame per {spec.fixed_fps} Hz step)"
+        raise InputError("fps", fps, allowed)
     out = Path(out)
     if out.suffix.lower() != spec.suffix or not out.stem:
         raise InputError("out", str(out), f"a file name ending in {spec.suffix} for {fmt}")
