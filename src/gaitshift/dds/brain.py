@@ -24,7 +24,6 @@ fault, no state within ``state_timeout`` s, or a real robot that is not damping 
 """
 
 import math
-import signal
 import time
 from dataclasses import asdict, dataclass, replace
 from typing import Any
@@ -38,6 +37,7 @@ from gaitshift.dds.crc import lowstate_crc
 from gaitshift.dds.g1 import check_motor_order
 from gaitshift.dds.gravity import standing_torques
 from gaitshift.dds.safety import Limits, Safety, SafetySettings, check_settings, standup_gains
+from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.ticklog import TickLog
 from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint
 from gaitshift.errors import GaitshiftError, InputError, number_in
@@ -139,21 +139,6 @@ def passive_at_start(state: Any, n: int) -> bool:
     a torque under :data:`PASSIVE_TAU` N m (zero torque / damping)."""
     motors = state.motor_state[:n]
     return all(m.mode == 0 for m in motors) or all(abs(m.tau_est) < PASSIVE_TAU for m in motors)
-
-
-class _Signals:
-    """SIGINT/SIGTERM set :attr:`why`; the previous handlers come back on :meth:`restore`."""
-
-    def __init__(self) -> None:
-        self.why = ""
-        self.previous = {s: signal.signal(s, self.handle) for s in (signal.SIGINT, signal.SIGTERM)}
-
-    def handle(self, signum: int, _frame: Any) -> None:
-        self.why = signal.Signals(signum).name
-
-    def restore(self) -> None:
-        for s, h in self.previous.items():
-            signal.signal(s, h)
 
 
 def _safety(ctrl: Controller, opts: BrainOptions) -> Safety:
@@ -270,7 +255,7 @@ class _Brain:
         return self.safety.guard(raw, frame, t), 2 if self.ctrl.trajectory is not before else 1
 
 
-def _loop(brain: _Brain, signals: _Signals) -> None:
+def _loop(brain: _Brain, signals: StopSignals) -> None:
     """Tick until ``final_damping`` s of the machine's clock after it ended (module docstring)."""
     opts, period, safety = brain.opts, brain.period, brain.safety
     wall0 = time.perf_counter()
@@ -342,7 +327,7 @@ def run_brain(opts: BrainOptions, endpoint: Endpoint | None = None, ctrl: Contro
     if opts.real_robot and not passive_at_start(brain.state, brain.n):
         reason = "refused: the robot is not damping or zero-torque (every motor mode 0 or |tau_est| < 1 N m) at start"
         return _summary(None, 1, reason, "damping", time.perf_counter() - start)
-    signals = _Signals()
+    signals = StopSignals()
     try:
         _loop(brain, signals)
     finally:

@@ -19,7 +19,6 @@ s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary
 """
 
 import math
-import signal
 import time
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -29,6 +28,7 @@ import numpy as np
 from gaitshift.control.frames import MotorCommand
 from gaitshift.dds.convert import command_from_lowcmd, lowstate_from_frame
 from gaitshift.dds.g1 import check_motor_order
+from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint
 from gaitshift.errors import InputError, number_in
 from gaitshift.robots.model import standing_qpos
@@ -118,21 +118,6 @@ class RobotSummary:
         return asdict(self)
 
 
-class _Stop:
-    """SIGINT/SIGTERM set :attr:`why`; the previous handlers come back on :meth:`restore`."""
-
-    def __init__(self) -> None:
-        self.why = ""
-        self.previous = {s: signal.signal(s, self.handle) for s in (signal.SIGINT, signal.SIGTERM)}
-
-    def handle(self, signum: int, _frame: Any) -> None:
-        self.why = signal.Signals(signum).name
-
-    def restore(self) -> None:
-        for s, h in self.previous.items():
-            signal.signal(s, h)
-
-
 class _Robot:
     """One run: the world, the endpoint, the newest valid command, the counters."""
 
@@ -193,7 +178,7 @@ class _Robot:
         self.summary.sim_time = (k + 1) * self.dt
 
 
-def _wait_for_command(robot: _Robot, k: int, stop: _Stop) -> bool:
+def _wait_for_command(robot: _Robot, k: int, stop: StopSignals) -> bool:
     """Lockstep: block until a valid command arrives for the state of tick ``k`` (the state written again
     every ``resend`` s); False when stopped by a signal first."""
     while not stop.why:
@@ -222,7 +207,7 @@ def run_robot(opts: RobotOptions, endpoint: Endpoint | None = None) -> RobotSumm
     """Run the robot process (module docstring) until ``opts.duration`` or SIGINT/SIGTERM."""
     endpoint = endpoint or open_endpoint(opts.domain, opts.iface, "robot")
     robot = _Robot(opts, endpoint)
-    stop = _Stop()
+    stop = StopSignals()
     n_ticks = math.inf if opts.duration is None else round(opts.duration / robot.dt)
     wall0 = start = time.perf_counter()
     k = 0
