@@ -144,6 +144,11 @@ def test_table_lists_the_metrics_of_the_run(run_plan):
     for row in ("fell", "steps completed", "CoM RMS walk", "CoM RMS run", "flight planned", "peak torque"):
         assert row in table
     assert math.isnan(met["speed_error_max"])  # no command in a TV-LIPM plan: NaN here, null in files
+    assert "controller's state" not in table  # a replay without the sensing metrics
+    est = {"contact_accuracy": 0.971, "base_vel_rmse": 0.0086, "tilt_rmse": 0.0013}
+    named = format_metrics(met | {"state_source": "estimated", "estimation": est})
+    assert any(line.startswith("controller's state") and line.endswith(" estimated") for line in named.splitlines())
+    assert "97.1 % / 0.0086 m/s / 0.0013 rad RMS" in named
 
 
 def test_a_fall_before_the_first_tick_gives_complete_finite_metrics_and_a_table():

@@ -198,6 +198,18 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
     return out
 
 
+def _state_rows(metrics: dict[str, Any]) -> list[tuple[str, str]]:
+    """What the controller acted on, and how well the estimate tracked the truth (when it ran)."""
+    if "state_source" not in metrics:
+        return []
+    rows = [("controller's state", str(metrics["state_source"]))]
+    est = metrics.get("estimation") or {}
+    if "contact_accuracy" in est:
+        acc, vel, tilt = 100 * est["contact_accuracy"], est["base_vel_rmse"], est["tilt_rmse"]
+        rows.append(("estimate: contact / vel / tilt", f"{acc:.1f} % / {vel:.4f} m/s / {tilt:.4f} rad RMS"))
+    return rows
+
+
 def format_metrics(metrics: dict[str, Any]) -> str:
     """The summary as a two-column text table."""
     rows = [("fell", "yes" if metrics["fell"] else "no")]
@@ -242,5 +254,6 @@ def format_metrics(metrics: dict[str, Any]) -> str:
     touch, overlap = metrics.get("legs_touch_time", 0.0), metrics.get("feet_overlap_time", 0.0)
     rows.append(("legs touch / feet overlap (s)", f"{touch:.3f} / {overlap:.3f}"))
     rows.append(("real-time factor", f"{metrics.get('real_time_factor', 0.0):.2f}"))
+    rows += _state_rows(metrics)
     w = max(len(r[0]) for r in rows)
     return "\n".join(f"{k.ljust(w)}  {v}" for k, v in rows)
