@@ -206,7 +206,7 @@ def _state_rows(metrics: dict[str, Any]) -> list[tuple[str, str]]:
     est = metrics.get("estimation") or {}
     if "contact_accuracy" in est:
         acc, vel, tilt = 100 * est["contact_accuracy"], est["base_vel_rmse"], est["tilt_rmse"]
-        rows.append(("estimate: contact / vel / tilt", f"{acc:.1f} % / {vel:.4f} m/s / {tilt:.4f} rad RMS"))
+        rows.append(("estimate contact/vel/tilt", f"{acc:.1f} % / {vel:.4f} m/s / {tilt:.4f} rad RMS"))
     return rows
 
 
