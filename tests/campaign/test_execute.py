@@ -1,7 +1,8 @@
 """A campaign case over a user scenario with a ``sim:`` block runs through the one simulate path
 (``gaitshift.simulate``): the scenario's pushes act when the case has none (the pelvis is pushed by the
 block's impulse), and a case's push replaces them (the logged impulse is the case's). Checked against
-the impulse the push delivers, the integral of the logged push force."""
+the impulse the push delivers, the integral of the logged push force. The contact axis reaches the
+controller, and the rows carry the estimate's quality."""
 
 from __future__ import annotations
 
@@ -59,3 +60,18 @@ def test_a_case_push_replaces_the_scenarios_and_each_delivers_its_impulse(cases)
         before, after = vy[np.searchsorted(t, t0) - 1], vy[np.searchsorted(t, t0 + 0.1)]
         jumps[case["push_impulse"]] = after - before
     assert jumps[0.0] > 0.05 and jumps[9.0] > jumps[0.0]  # +y pushes, the larger one is the case's
+
+
+def test_the_contact_axis_reaches_the_controller_and_the_rows_carry_the_estimate(tmp_path):
+    """Two cases that differ only in contact sensing: the rows carry the estimate's quality, and the
+    torque case's contact estimate is not the foot-force one (the world reported no foot force)."""
+    (tmp_path / "walk.yaml").write_text(SCENARIO)
+    spec_text = "name: contact\ntask: simulate\naxes:\n  scenario: [walk.yaml]\n  contact: [force, torque]\n"
+    (tmp_path / "spec.yaml").write_text(spec_text)
+    spec = load_spec(tmp_path / "spec.yaml")
+    scenario = load_scenario(spec.scenario_path("walk.yaml"))
+    rows = {c["contact"]: run_case(c, scenario)["row"] for c in expand(spec)}
+    for row in rows.values():
+        assert row["error"] is None and not row["fell"], row
+        assert 0.5 < row["contact_accuracy"] <= 1.0 and row["base_vel_rmse"] < 0.05 and row["tilt_rmse"] < 0.01
+    assert rows["force"]["contact_accuracy"] != rows["torque"]["contact_accuracy"]

@@ -128,15 +128,18 @@ def test_no_module_of_control_imports_the_simulation_or_steps_physics():
 
 
 def test_a_controller_with_torque_contact_ticks_on_frames_without_foot_force():
-    """The robot without sole force sensors: the frame carries none, and the controller reads its sole
-    forces from the motors' torques; one with force contact refuses such a frame, naming the field."""
-    c = Controller.from_scenario("g1-walk", contact="torque")
+    """The robot without sole force sensors (the G1: its YAML's ``sensors.foot_force`` is false, the
+    default of its controller): the frame carries none, and the controller reads its sole forces from
+    the motors' torques; one with force contact refuses such a frame, naming the field."""
+    c = Controller.from_scenario("g1-walk")
+    assert c.state.torque_contact is not None
     frame = _rest_frame(c)
     bare = SensorFrame(**{**frame.__dict__, "foot_force": None})
     for k in range(3):
         cmd = c.tick(SensorFrame(**{**bare.__dict__, "t": k * c.period}))
         assert np.all(np.isfinite(cmd.tau))
-    f = Controller.from_scenario("g1-walk")
+    f = Controller.from_scenario("g1-walk", contact="force")
+    assert f.state.torque_contact is None
     f.tick(frame)
     with pytest.raises(InputError, match=r"SensorFrame\.foot_force"):
         f.tick(SensorFrame(**{**bare.__dict__, "t": c.period}))

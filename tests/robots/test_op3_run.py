@@ -1,8 +1,8 @@
 """The ROBOTIS OP3 runs closed loop on its own gait (issue 12): with op3.yaml's choices (standing CoM
 0.22 m, strides <= 0.04 m, swing clearance 0.01 m, running flight 0.0375 s, swing gains below the servo
 pole b / J) a short walk-run-walk (2 + 4 + 2 steps) finishes every step and the flights are real flights:
-both soles measured off the floor for more than a third of the planned time. The OP3's MJCF has no IMU,
-so the run is on the simulator's truth (``state_source``). The joint speeds of the shipped scenarios
+both soles measured off the floor for more than a third of the planned time, on the robot's estimator
+(an IMU at its base: the OP3's MJCF has none, the simulated world adds it). The joint speeds of the shipped scenarios
 stay below the servos' damping bound 4.61 rad/s (torque limit / joint damping of the MJCF)."""
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ def test_op3_walk_run_walk_finishes_with_real_flights():
     data["profile"].update(accelerate_steps=3, decelerate_steps=3)
     traj = gaitshift.plan(load_scenario(data))
     m = simulate(traj, SimOptions(), robot=load_robot("op3")).metrics
-    assert m["state_source"] == "oracle"
+    assert m["state_source"] == "estimated"
     assert not m["fell"] and m["steps_completed"] == m["steps_planned"] == 9
     assert m["flight_ratio"] > 0.3 and m["flight_planned_mean"] > 0.03
 

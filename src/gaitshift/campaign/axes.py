@@ -5,7 +5,7 @@ its default. Units: speed m/s (the scenario's forward command, scaled), yaw rate
 N s, push direction degrees in the ground plane (0 = +x forward, 90 = +y left: a lateral push), push
 time s of plan time, push duration s, mass scale (factor on the simulated robot's masses only),
 friction (floor coefficient), latency ticks (sensing + actuation delay), noise (sensor noise profile)
-and its factor, state (what the controller sees), terrain (``flat`` only), seed.
+and its factor, state (what the controller sees), contact (its contact sensing), terrain (``flat`` only), seed.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from typing import Any
 
 from gaitshift.errors import InputError
 from gaitshift.scenario.sim_settings import (
+    CONTACT_SOURCES,
     FRICTION_RANGE,
     LATENCY_RANGE,
     NOISE_PROFILES,
@@ -61,6 +62,7 @@ AXES: dict[str, Axis] = {
     "noise": Axis("str", "typical", "sensor noise profile", choices=NOISE_PROFILES),
     "noise_scale": Axis("float", 1.0, "factor on every sensor noise", *NOISE_SCALE_RANGE),
     "state": Axis("str", "estimated", "what the controller sees (as simulate: the estimate)", choices=STATE_SOURCES),
+    "contact": Axis("str", None, "contact sensing (default: the robot's sensors)", choices=CONTACT_SOURCES),
     "terrain": Axis("str", "flat", "terrain", choices=TERRAINS),
     "seed": Axis("int", 0, "seed of every random draw of the run", 0, 2**32 - 1),
 }

@@ -49,6 +49,10 @@ METRICS: dict[str, str] = {
     "plan_gaits": "string",
     "plan_duration": "float64",
     "sim_time": "float64",
+    "fall_reason": "string",
+    "contact_accuracy": "float64",
+    "base_vel_rmse": "float64",
+    "tilt_rmse": "float64",
     "wall_time": "float64",
     "cpu_time": "float64",
     "gaitshift_version": "string",
@@ -88,7 +92,7 @@ def _sim_options(case: dict[str, Any]) -> dict[str, Any]:
     the case replaces the scenario's pushes."""
     from gaitshift.sim.pushes import Push
 
-    keys = ("state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale")
+    keys = ("state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale", "contact")
     out = {k: case[k] for k in keys} | {"control_period": case["control_period"]}
     if case["push_impulse"] > 0:
         a = math.radians(case["push_direction"])
@@ -136,8 +140,20 @@ def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], 
         "feet_overlap_time": _finite(m.get("feet_overlap_time")),
         **_plan_facts(run.trajectory),
         "sim_time": float(res.meta["sim_time_s"]),
+        **_estimate_row(m),
     }
     return row, res
+
+
+def _estimate_row(metrics: dict[str, Any]) -> dict[str, Any]:
+    """The fall's reason and the estimate's quality (None where the run has none)."""
+    est = metrics.get("estimation") or {}
+    return {
+        "fall_reason": metrics.get("fall_reason") or None,
+        "contact_accuracy": _finite(est.get("contact_accuracy")),
+        "base_vel_rmse": _finite(est.get("base_vel_rmse")),
+        "tilt_rmse": _finite(est.get("tilt_rmse")),
+    }
 
 
 def _plan(sc: Any, cfg: Any, _case: dict[str, Any]) -> tuple[dict[str, Any], Any]:

@@ -67,7 +67,8 @@ def simulate_cmd(
     The robot is the scenario's ``robot``, else --robot, else g1; a --robot other than the scenario's
     own robot is an error (scale the scenario first: `gaitshift scale`). Before the run, the robot's
     joint-speed limits are checked against the plan's whole-body motion (IK)."""
-    from gaitshift.sim.scenario_run import prepare, run_prepared
+    from gaitshift.control.drivers import prepare
+    from gaitshift.sim.scenario_run import run_prepared
 
     sensing: dict[str, Any] = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency}
     sensing |= {"friction": friction, "mass_scale": mass_scale, "joint_vel_noise": joint_vel_noise, "contact": contact}

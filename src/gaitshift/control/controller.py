@@ -34,7 +34,7 @@ import mujoco
 import numpy as np
 
 from gaitshift.control.cop_room import CopRoom
-from gaitshift.control.drivers import PlanDriver, driver_for
+from gaitshift.control.drivers import PlanDriver, prepare
 from gaitshift.control.estimation.noise import noise_profile
 from gaitshift.control.feedback import PlanShift, SwingContext
 from gaitshift.control.frames import MotorCommand, SensorFrame
@@ -42,14 +42,14 @@ from gaitshift.control.initial_pose import initial_qpos
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.control.reference import tick_reference
 from gaitshift.control.schedule import FootScheduler
-from gaitshift.control.settings import ControllerSettings
+from gaitshift.control.settings import ControllerSettings, contact_source
 from gaitshift.control.state import ControllerState, EstimateRecord, StateView
 from gaitshift.control.step_limits import StepLimits
 from gaitshift.control.wbc import WholeBodyController
 from gaitshift.control.wbc_data import TickInfo, TickReference, gains_for
 from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig
-from gaitshift.robots.model import RobotModel, robot_model
+from gaitshift.robots.model import RobotModel, check_period, robot_model
 from gaitshift.trajectory.contract import Trajectory
 
 __all__ = ["Controller", "TickRecord"]
@@ -114,11 +114,18 @@ class Controller:
         omega = math.sqrt(plan.gravity / height)
         self.shift = PlanShift(s.capture, omega, limits, room, robot.mass * plan.gravity)
         self.last_info = TickInfo()  # the last solve: the stance soles' CoP (commanded_cop)
-        self.source = s.state or ("estimated" if robot.imu_site is not None else "oracle")
+        self.source = s.state or "estimated"
         profile = noise_profile(s.noise).scaled(float(s.noise_scale))
         oracle = self.source == "oracle"
         self.state = ControllerState(
-            robot, self.q0, profile, oracle, s.estimator, s.latency, s.assumed_friction, s.contact
+            robot,
+            self.q0,
+            profile,
+            oracle,
+            s.estimator,
+            s.latency,
+            s.assumed_friction,
+            contact_source(s.contact, robot.robot),
         )
         self.record: TickRecord | None = None
 
@@ -128,24 +135,17 @@ class Controller:
     ) -> Controller:
         """The controller of ``scenario`` (a built-in name, a YAML path or a loaded scenario) on
         ``robot`` (default: the scenario's, else g1), acting on ``state`` ("estimated", "oracle";
-        None: the scenario's ``sim: state``, else estimated when the model has an IMU).
+        None: the scenario's ``sim: state``, else estimated: every robot has an IMU, its YAML's
+        ``sensors.imu``).
         ``settings`` are :class:`ControllerSettings` keys, and ``control_period`` (s, 0.002)."""
-        from gaitshift.api import plan, robot_facts, with_robot
-        from gaitshift.robots.config import load_robot
-        from gaitshift.scenario import load_scenario
-
         period = settings.pop("control_period", 0.002)
-        sc = load_scenario(scenario) if isinstance(scenario, str | Path) else scenario
-        name = robot if robot is None or isinstance(robot, str) else str(robot)
-        sc, robot_name = with_robot(sc, name if not isinstance(robot, RobotConfig) else None)
-        cfg = robot if isinstance(robot, RobotConfig) else load_robot(robot_name)
+        sc, cfg, driver, plan = prepare(scenario, robot, check_period(period))
         model = robot_model(cfg, period)
-        driver = driver_for(sc, robot_facts(sc), model.dt)
         given = {k: v for k, v in sc.sim.given().items() if k in _SCENARIO_KEYS} if hasattr(sc, "sim") else {}
         if state is not None:
             given["state"] = state
         cs = ControllerSettings.of(**(given | settings))
-        return cls(driver.trajectory if driver is not None else plan(sc), model, cs, driver)
+        return cls(plan, model, cs, driver)
 
     # --- what a host needs -------------------------------------------------------------------
 

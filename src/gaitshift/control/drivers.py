@@ -11,6 +11,7 @@ capture-point step feedback of :mod:`gaitshift.control.feedback`.
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
@@ -18,7 +19,7 @@ import numpy as np
 from gaitshift.scenario.facts import RobotFacts
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["DRIVERS", "PlanDriver", "driver_for"]
+__all__ = ["DRIVERS", "PlanDriver", "driver_for", "prepare"]
 
 
 class PlanDriver(Protocol):
@@ -53,3 +54,24 @@ def driver_for(sc: Any, facts: RobotFacts | None, control_period: float) -> Plan
     """The driver of the scenario's planner, or None for a plan executed as planned."""
     make = DRIVERS.get(sc.planner)
     return None if make is None else make(sc, facts, control_period)
+
+
+def prepare(
+    scenario: Any, robot: Any = None, control_period: float = 0.002
+) -> tuple[Any, Any, PlanDriver | None, Trajectory]:
+    """A scenario on a robot, ready to run: the scenario (a built-in name, a YAML path or a loaded one;
+    its robot written in), the robot config (``robot``: a name, a robot YAML path or a
+    :class:`gaitshift.robots.RobotConfig`; None: the scenario's, else g1), the driver of its planner
+    (:func:`driver_for`) and the plan as known at the start. What a controller is built from and a
+    simulation runs (:meth:`gaitshift.control.controller.Controller.from_scenario`,
+    :func:`gaitshift.sim.scenario_run.simulate_scenario`)."""
+    from gaitshift.api import plan, robot_facts, with_robot
+    from gaitshift.robots.config import RobotConfig, load_robot
+    from gaitshift.scenario import load_scenario
+
+    sc = load_scenario(scenario) if isinstance(scenario, str | Path) else scenario
+    given = robot if isinstance(robot, RobotConfig) else None
+    sc, robot_name = with_robot(sc, None if given is not None else (None if robot is None else str(robot)))
+    cfg = given if given is not None else load_robot(robot_name)
+    driver = driver_for(sc, robot_facts(sc), control_period)
+    return sc, cfg, driver, driver.trajectory if driver is not None else plan(sc)

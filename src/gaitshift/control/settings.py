@@ -12,6 +12,7 @@ from gaitshift.control.schedule import ScheduleSettings
 from gaitshift.control.wbc_data import Gains
 from gaitshift.errors import InputError, number_in
 from gaitshift.scenario.sim_settings import (
+    CONTACT_SOURCES,
     LATENCY_RANGE,
     NOISE_PROFILES,
     NOISE_SCALE_RANGE,
@@ -19,10 +20,7 @@ from gaitshift.scenario.sim_settings import (
     check_friction,
 )
 
-__all__ = ["CONTACT_SOURCES", "ControllerSettings"]
-
-#: where the contact detector's sole forces come from
-CONTACT_SOURCES = ("force", "torque")
+__all__ = ["CONTACT_SOURCES", "ControllerSettings", "contact_source"]
 
 
 @dataclass(frozen=True)
@@ -43,7 +41,8 @@ class ControllerSettings:
         latency: ticks between a frame and its command acting on the robot, compensated by prediction
             (:mod:`gaitshift.control.state`, eq. (1)); 0: none.
         contact: the contact detector's sole forces: ``"force"`` (the robot's foot-force sensors) or
-            ``"torque"`` (from the motors' torques, :mod:`gaitshift.control.estimation.torque_contact`).
+            ``"torque"`` (from the motors' torques, :mod:`gaitshift.control.estimation.torque_contact`);
+            None: what the robot has (:func:`contact_source`).
     """
 
     gains: Gains | None = None
@@ -57,7 +56,7 @@ class ControllerSettings:
     estimator: str = "inekf"
     assumed_friction: float | None = None
     latency: int = 0
-    contact: str = "force"
+    contact: str | None = None
 
     def __post_init__(self) -> None:
         if self.state is not None and self.state not in STATE_SOURCES:
@@ -67,7 +66,7 @@ class ControllerSettings:
         number_in("noise_scale", self.noise_scale, NOISE_SCALE_RANGE)
         number_in("settle", self.settle, (0.0, 60.0), " s")
         check_friction("assumed_friction", self.assumed_friction)
-        if self.contact not in CONTACT_SOURCES:
+        if self.contact is not None and self.contact not in CONTACT_SOURCES:
             raise InputError("contact", self.contact, "one of: " + ", ".join(CONTACT_SOURCES))
         if self.estimator not in FILTERS:
             raise InputError("estimator", self.estimator, "one of: " + ", ".join(FILTERS))
@@ -83,3 +82,10 @@ class ControllerSettings:
             if key not in names:
                 raise InputError("settings", key, "one of: " + ", ".join(names))
         return cls(**given)
+
+
+def contact_source(contact: str | None, robot: Any) -> str:
+    """Where contact sensing comes from: ``contact`` when given, else ``"force"`` for a robot whose soles
+    measure force and ``"torque"`` for one whose do not (``sensors.foot_force`` of the robot YAML,
+    :class:`gaitshift.robots.sensors.RobotSensors`; ``robot`` a :class:`gaitshift.robots.RobotConfig`)."""
+    return contact if contact is not None else str(robot.sensors.contact)

@@ -177,7 +177,7 @@ class ControllerState:
         estimator: str,
         latency: int,
         assumed_friction: float | None,
-        contact: str = "force",
+        contact: str = "torque",
     ) -> None:
         m = robot.model
         self.robot, self.oracle = robot, oracle
@@ -195,10 +195,6 @@ class ControllerState:
         self._force0 = np.full(2, robot.mass * 9.81 / 2)  # at rest on both feet, until the window fills
         self.record: EstimateRecord | None = None
         self.ticks = 0
-        if robot.imu_site is None:  # no IMU in the model: the truth only, and no estimate
-            if not oracle:
-                raise InputError("state", "estimated", "oracle: the robot's model has no IMU site")
-            return
         if contact == "torque":
             self.torque_contact = TorqueContact(robot)
             self._window = AccelerationWindow(TORQUE_WINDOW, robot.dt)

@@ -33,6 +33,7 @@ from gaitshift.errors import InputError
 from gaitshift.robots import mjcf as _mj
 from gaitshift.robots.dimensions import com_height, foot_separation, leg_length
 from gaitshift.robots.schema import RobotYaml
+from gaitshift.robots.sensors import ImuMount, RobotSensors, robot_sensors
 from gaitshift.robots.soles import SoleGeometry, sole_geometry
 from gaitshift.robots.standing import computed_standing_pose, guess_qpos
 from gaitshift.scenario.facts import RobotFacts
@@ -72,6 +73,7 @@ class RobotConfig:
         com_height: nominal CoM height above the sole plane in the standing pose, m.
         leg_length: hip-pitch axis to sole centre, leg straight, m.
         foot_separation: lateral distance of the two soles in the standing pose, m.
+        sensors: the IMU frame and whether the soles measure force (:mod:`gaitshift.robots.sensors`).
         control: ((gain name, value), ...) controller gains of this robot.
         ik: ((IKSettings field, value), ...) the robot's whole-body IK weights (YAML ``ik``).
         flight_scale: factor on the flight time of running steps of scaled scenarios (YAML ``gait``).
@@ -110,6 +112,7 @@ class RobotConfig:
     com_height: float
     leg_length: float
     foot_separation: float
+    sensors: RobotSensors
     control: tuple[tuple[str, float], ...] = ()
     ik: tuple[tuple[str, float], ...] = ()
     flight_scale: float = 1.0
@@ -125,7 +128,15 @@ class RobotConfig:
     SOLE_SITES = _mj.SOLE_SITES
 
     def _key(self) -> tuple[Any, ...]:
-        return (self.name, str(self.mjcf), self.source, self.standing_pose, self.sole_offsets, self.sole_quats)
+        return (
+            self.name,
+            str(self.mjcf),
+            self.source,
+            self.standing_pose,
+            self.sole_offsets,
+            self.sole_quats,
+            self.sensors,
+        )
 
     def __hash__(self) -> int:
         return hash(self._key())
@@ -139,14 +150,21 @@ class RobotConfig:
 
         ``scene=True`` adds a floor, a light and a larger offscreen buffer for rendering.
         """
-        return _compile(self.mjcf, self.sole_bodies, self._site_poses(), scene)
+        return _compile(self.mjcf, self.sole_bodies, self._site_poses(), scene, self.sensors.imu)
+
+    @property
+    def imu_site(self) -> str:
+        """The IMU site's name (:class:`gaitshift.robots.sensors.ImuMount`)."""
+        return self.sensors.imu.site
 
     def _site_poses(self) -> tuple[Any, ...]:
         return tuple(zip(self.sole_offsets, self.sole_quats, strict=True))
 
-    def add_sole_sites(self, spec: Any) -> None:
-        """Add the sole sites to an ``MjSpec`` of this robot's MJCF (the plant builds its own model)."""
+    def add_sites(self, spec: Any) -> None:
+        """Add the sole sites and, for a body-mounted IMU, the IMU site to an ``MjSpec`` of this robot's
+        MJCF (the plant builds its own model)."""
         _mj.add_sole_sites(spec, self.mjcf, self.sole_bodies, self._site_poses())
+        self.sensors.imu.add_site(spec)
 
     def standing_qpos(self, model: Any = None) -> np.ndarray:
         """qpos of the standing pose: base at the origin, upright, joints from ``standing_pose``."""
@@ -306,7 +324,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
     sole_quats = tuple(_mat2quat(s.rotation) for s in soles)
     offsets = tuple(tuple(float(x) for x in s.centre) for s in soles)
     sole_bodies = (cfg.soles.left.body, cfg.soles.right.body)
-    model = _compile(mjcf, sole_bodies, tuple(zip(offsets, sole_quats, strict=True)), False)
+    model = _compile(mjcf, sole_bodies, tuple(zip(offsets, sole_quats, strict=True)), False, None)
     legs = _leg_ids(model, cfg)
     knees = [model.joint(n).id for n in cfg.knees]
     roll = _foot_roll(model, legs, knees, soles, bodies)  # type: ignore[arg-type]
@@ -353,6 +371,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         com_height=com_height(model, stand),
         leg_length=leg_length(model, cfg.hips),
         foot_separation=foot_separation(model, stand),
+        sensors=robot_sensors(cfg.sensors, raw_model, model.body(model.jnt_bodyid[0]).name),
         control=tuple(cfg.control.items()),
         ik=tuple((k, v) for k, v in cfg.ik.model_dump().items() if v is not None),
         flight_scale=cfg.gait.flight_scale,
@@ -389,9 +408,13 @@ def _mean_size(soles: tuple[SoleGeometry, ...]) -> tuple[float, float]:
 
 
 @functools.lru_cache(maxsize=8)
-def _compile(mjcf: Path, sole_bodies: tuple[str, str], poses: tuple[Any, ...], scene: bool) -> Any:
+def _compile(
+    mjcf: Path, sole_bodies: tuple[str, str], poses: tuple[Any, ...], scene: bool, imu: ImuMount | None
+) -> Any:
     spec = _mj.load_spec(mjcf)
     _mj.add_sole_sites(spec, mjcf, sole_bodies, poses)
+    if imu is not None:
+        imu.add_site(spec)
     if scene:
         _mj.add_render_scene(spec)
     return spec.compile()

@@ -4,7 +4,8 @@ The model is the robot config's MJCF as shipped (masses, inertias, joint armatur
 friction loss, contact parameters, solver options) with these changes, documented in
 docs/simulation.md and docs/robots.md:
 
-* the two sole sites of the config (:mod:`gaitshift.robots.mjcf`);
+* the two sole sites of the config (:mod:`gaitshift.robots.mjcf`), and the IMU site when the robot YAML
+  mounts the IMU on a body (:mod:`gaitshift.robots.sensors`);
 * the shipped actuators (position servos, motors) are replaced by one ``motor`` actuator per hinge
   joint, gear 1, ``ctrlrange`` = +- the joint's torque limit read from the model
   (``RobotConfig.torque_limit``: ``actuatorfrcrange``, else the force or control range of its motor);
@@ -36,10 +37,8 @@ from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.robots.mjcf import raw_model
 from gaitshift.robots.soles import contact_geoms
 
-__all__ = ["IMU_SITE", "PERIOD_RANGE", "RobotModel", "SolePoints", "robot_model", "robot_spec", "standing_qpos"]
+__all__ = ["PERIOD_RANGE", "RobotModel", "SolePoints", "robot_model", "robot_spec", "standing_qpos"]
 
-#: the IMU site of a model that ships one (the G1's pelvis IMU with its gyro and accelerometer)
-IMU_SITE = "imu_in_pelvis"
 #: the control period = time step a model is compiled with, s
 PERIOD_RANGE = (0.001, 0.002)
 
@@ -95,9 +94,9 @@ class RobotModel:
         return tuple(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, i) for i in range(m.nu))
 
     @property
-    def imu_site(self) -> str | None:
-        """The model's IMU site (:data:`IMU_SITE`) when it has one, else None."""
-        return IMU_SITE if mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_SITE, IMU_SITE) >= 0 else None
+    def imu_site(self) -> str:
+        """The IMU site (the robot YAML's ``sensors.imu``, :mod:`gaitshift.robots.sensors`)."""
+        return self.robot.imu_site
 
     def sole_frame(self, data: mujoco.MjData, side: int) -> tuple[np.ndarray, np.ndarray]:
         """Sole centre (3,) m and sole frame rotation (3, 3) of one foot, world frame."""
@@ -128,7 +127,7 @@ def robot_spec(robot: RobotConfig) -> mujoco.MjSpec:
     """The robot's ``MjSpec``: its MJCF with the sole sites, one torque motor per hinge and the feet
     colliding (see module docstring); no floor, no terrain, no sensors added."""
     spec = mujoco.MjSpec.from_file(str(robot.mjcf))
-    robot.add_sole_sites(spec)
+    robot.add_sites(spec)
     _torque_motors(spec, robot)
     _feet_collide(spec, robot)
     return spec

@@ -29,6 +29,10 @@
                        are the fields of ``gaitshift.control.wbc.Gains`` (docs/robots.md)
 ``ik``                 (optional) weights of the whole-body IK's soft tasks for this robot: ``posture_cost``,
                        ``torso_cost``, ``arm_cost`` (fields of ``gaitshift.wholebody.ik.IKSettings``)
+``sensors``            (optional) the IMU frame, ``imu: {site: <site>}`` or ``imu: {body: <body>,
+                       pos: [x, y, z], quat: [w, x, y, z]}`` (default: the floating base's origin), and
+                       ``foot_force`` (default false): whether the soles measure force
+                       (:mod:`gaitshift.robots.sensors`)
 ``gait``               (optional) how a scenario is scaled to this robot (:mod:`gaitshift.wholebody.scaling`):
                        ``flight_scale`` (0 < s <= 1) multiplies the TV-LIPM flight time of running steps
                        (a weaker robot lands softer: touchdown speed g T_f / 2); ``step_width`` (m) is the
@@ -49,7 +53,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field, Strict, field_validator
+from pydantic import Field, Strict, field_validator, model_validator
 
 from gaitshift.scenario.fields import Length, Real, StrictModel
 
@@ -93,6 +97,30 @@ class Gait(StrictModel):
     swing_height: Length | None = None
 
 
+class Imu(StrictModel):
+    """The IMU frame (``sensors.imu``): a site of the MJCF, or a body and an offset (not both)."""
+
+    site: str | None = None
+    body: str | None = None
+    pos: tuple[Real, Real, Real] = (0.0, 0.0, 0.0)
+    quat: tuple[QuatPart, QuatPart, QuatPart, QuatPart] = (1.0, 0.0, 0.0, 0.0)
+
+    @model_validator(mode="after")
+    def _one_place(self) -> Imu:
+        if self.site is not None and (self.body is not None or self.pos != (0.0, 0.0, 0.0)):
+            raise ValueError("either a site, or a body with pos and quat (not both)")
+        if sum(x * x for x in self.quat) ** 0.5 < MIN_QUAT_NORM:
+            raise ValueError(f"a quaternion [w, x, y, z] of norm >= {MIN_QUAT_NORM} ({list(self.quat)} is no rotation)")
+        return self
+
+
+class Sensors(StrictModel):
+    """What the robot measures (``sensors`` key; :mod:`gaitshift.robots.sensors`)."""
+
+    imu: Imu = Field(default_factory=Imu)
+    foot_force: Annotated[bool, Strict()] = False
+
+
 class IkWeights(StrictModel):
     """Soft-task weights of the whole-body IK for the robot (``ik`` key; unset: the IKSettings defaults)."""
 
@@ -121,6 +149,7 @@ class RobotYaml(StrictModel):
     velocity_limits_source: str = ""
     control: dict[str, Gain] = Field(default_factory=dict)
     gait: Gait = Field(default_factory=Gait)
+    sensors: Sensors = Field(default_factory=Sensors)
     ik: IkWeights = Field(default_factory=IkWeights)
 
     @field_validator("sole_orientation")

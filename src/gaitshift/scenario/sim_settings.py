@@ -27,6 +27,8 @@ from gaitshift.scenario.fields import StrictModel
 
 #: what the controller sees: the estimator's state, or the simulator's truth
 STATE_SOURCES = ("estimated", "oracle")
+#: where the controller's contact sensing comes from: the soles' force sensors, or the motors' torques
+CONTACT_SOURCES = ("force", "torque")
 #: sensor noise profiles (``none``: exact readings)
 NOISE_PROFILES = ("none", "typical", "rl-peer")
 #: friction coefficients (floor, assumed), inclusive

@@ -7,7 +7,7 @@ sites and torque motors) with these additions, documented in docs/simulation.md:
 * the scenario's terrain, one box per piece with the floor's contact parameters (:mod:`gaitshift.sim.terrain_geoms`);
 * the bumps asked for (``SimOptions.bumps``, :mod:`gaitshift.sim.bumps`): boxes on the floor;
 * the sensors (:mod:`gaitshift.sim.sensor_spec`): a touch sensor under each sole, and a gyro and an
-  accelerometer at the base body when the model ships no IMU.
+  accelerometer on the robot's IMU site (``sensors.imu`` of the robot YAML) when the model has none there.
 
 None of them moves a body or a joint: the controller's own model (the robot's alone) computes the same
 kinematics and dynamics to the last bit.
@@ -40,7 +40,7 @@ class Plant(RobotModel):
     Attributes:
         floor_geom: geom id of the floor plane.
         ground_geoms: geom ids of the ground the feet stand on: the floor, then the terrain boxes and the bumps.
-        imu: the site the world's IMU sensors are attached to (the model's IMU, else one it added).
+        imu: the IMU site (the robot YAML's ``sensors.imu``), where the world's gyro and accelerometer are.
     """
 
     floor_geom: int = 0
@@ -92,10 +92,10 @@ def _build(dt: float, robot: RobotConfig, terrain: Terrain, bumps: tuple[Bump, .
     _floor(spec)
     add_terrain(spec, terrain)
     add_bumps(spec, bumps)
-    add_sole_touch_sensors(spec, robot.sole_bodies)
-    imu = add_imu_sensors(spec)
+    add_sole_touch_sensors(spec, robot)
+    add_imu_sensors(spec, robot.imu_site)
     model, fields = compile_spec(spec, robot, dt)
     planes = np.flatnonzero((model.geom_bodyid == 0) & (model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE))
     boxes = [i for i in np.flatnonzero(model.geom_bodyid == 0) if i != planes[0]]  # terrain and bumps
     ground = (int(planes[0]), *(int(i) for i in boxes))
-    return Plant(model=model, robot=robot, floor_geom=int(planes[0]), ground_geoms=ground, imu=imu, **fields)  # type: ignore[arg-type]
+    return Plant(model=model, robot=robot, floor_geom=int(planes[0]), ground_geoms=ground, imu=robot.imu_site, **fields)  # type: ignore[arg-type]

@@ -19,16 +19,16 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.control.drivers import PlanDriver, driver_for
+from gaitshift.control.drivers import PlanDriver, prepare
 from gaitshift.errors import InputError
-from gaitshift.robots.config import RobotConfig, load_robot
+from gaitshift.robots.config import RobotConfig
 from gaitshift.sim.bumps import Bump
 from gaitshift.sim.loop import SimOptions, TickHook, simulate
 from gaitshift.sim.pushes import Push, mid_stance_pushes
 from gaitshift.sim.result import SimResult
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["ScenarioRun", "options_of", "prepare", "run_prepared", "scenario_options", "simulate_scenario"]
+__all__ = ["ScenarioRun", "options_of", "run_prepared", "scenario_options", "simulate_scenario"]
 
 
 @dataclass(frozen=True)
@@ -90,25 +90,11 @@ def options_of(plan: Trajectory, base: dict[str, Any], given: dict[str, Any]) ->
     return SimOptions(**(base | given))
 
 
-def prepare(
-    scenario: Any, robot: str | Path | RobotConfig | None = None, control_period: float = 0.002
-) -> tuple[Any, RobotConfig, PlanDriver | None, Trajectory]:
-    """The scenario (loaded, its robot written in), the robot config, its driver and its plan."""
-    from gaitshift.api import plan, robot_facts, with_robot
-    from gaitshift.scenario import load_scenario
-
-    sc = load_scenario(scenario) if isinstance(scenario, str | Path) else scenario
-    cfg_given = robot if isinstance(robot, RobotConfig) else None
-    sc, robot_name = with_robot(sc, None if cfg_given is not None else (None if robot is None else str(robot)))
-    cfg = cfg_given if cfg_given is not None else load_robot(robot_name)
-    driver = driver_for(sc, robot_facts(sc), control_period)
-    return sc, cfg, driver, driver.trajectory if driver is not None else plan(sc)
-
-
 def run_prepared(
     prepared: tuple[Any, RobotConfig, PlanDriver | None, Trajectory], hooks: Sequence[TickHook] = (), **options: Any
 ) -> ScenarioRun:
-    """Simulate what :func:`prepare` returned, with ``options`` (:func:`simulate_scenario`)."""
+    """Simulate what :func:`gaitshift.control.drivers.prepare` returned, with ``options``
+    (:func:`simulate_scenario`)."""
     sc, cfg, drv, plan = prepared
     opts = options_of(plan, scenario_options(sc), options)
     result = simulate(plan, opts, driver=drv, hooks=hooks, robot=cfg)

@@ -1,11 +1,13 @@
-"""Sole force sensors added to the plant's model: one MuJoCo ``touch`` sensor per sole.
+"""The sensors the simulated world adds to the plant's model: sole force sensors and the IMU's.
 
-A ``touch`` sensor reads the sum of the normal forces of the contacts of its site's body whose contact
-point lies inside the site's volume (MuJoCo's documentation, "touch"): the signal a load cell under the
-sole gives. Each sole gets a box site enclosing its collision spheres (their centres' x/y extent grown
-by 2 radii, from 3 radii below the centres to 1 radius above), so every contact of that sole counts and
-nothing else does. The controller side never reads MuJoCo's contact list: the force signal reaches it
-only through the sensor model (:mod:`gaitshift.sim.sensors`) and the estimator's contact detector.
+Each sole gets a MuJoCo ``touch`` sensor: the sum of the normal forces of the contacts of its site's
+body whose contact point lies inside the site's volume (MuJoCo's documentation, "touch"), the signal a
+load cell under the sole gives. The site is a box in the sole frame around the sole's whole contact
+footprint (the contact points of :class:`gaitshift.robots.soles.SoleGeometry`, grown by
+:data:`ZONE_MARGIN` sideways, from :data:`ZONE_MARGIN` below the sole plane to :data:`ZONE_HEIGHT`
+above it), so every contact of that sole counts, on its heel, toe and edges, and nothing else does.
+The controller side never reads MuJoCo's contact list: the force signal reaches it only through the
+sensor model (:mod:`gaitshift.sim.sensors`) and the estimator's contact detector.
 """
 
 from __future__ import annotations
@@ -17,23 +19,27 @@ import numpy as np
 
 #: touch sensor names, (left, right)
 SOLE_TOUCH_SENSORS = ("gaitshift_left_sole_touch", "gaitshift_right_sole_touch")
+#: growth of the touch zone beyond the contact points along the sole and below its plane, m
+ZONE_MARGIN = 0.02
+#: height of the touch zone above the sole plane, m (a tilted foot's contacts rise up its geoms' sides)
+ZONE_HEIGHT = 0.03
 
 
-def add_sole_touch_sensors(spec: Any, sole_bodies: tuple[str, str]) -> None:
-    """Add a box site around the sphere geoms of each sole body of ``spec`` (an ``MjSpec``) and a
-    ``touch`` sensor on it (names :data:`SOLE_TOUCH_SENSORS`). A sole without sphere geoms gets a box
-    around all its geoms' centres with a 2 cm margin."""
-    for name, body_name in zip(SOLE_TOUCH_SENSORS, sole_bodies, strict=True):
-        body = spec.body(body_name)
-        geoms = [g for g in body.geoms if g.type == mujoco.mjtGeom.mjGEOM_SPHERE] or list(body.geoms)
-        centres = np.array([g.pos for g in geoms], dtype=float)
-        r = max((float(g.size[0]) for g in geoms if g.type == mujoco.mjtGeom.mjGEOM_SPHERE), default=0.01)
-        lo = centres.min(axis=0) - np.array([2 * r, 2 * r, 3 * r])
-        hi = centres.max(axis=0) + np.array([2 * r, 2 * r, r])
-        site = body.add_site(
+def add_sole_touch_sensors(spec: Any, robot: Any) -> None:
+    """Add a box site around the contact footprint of each sole of ``robot`` (a
+    :class:`gaitshift.robots.RobotConfig`) to ``spec`` (an ``MjSpec``) and a ``touch`` sensor on it
+    (names :data:`SOLE_TOUCH_SENSORS`; module docstring)."""
+    for name, body_name, sole in zip(SOLE_TOUCH_SENSORS, robot.sole_bodies, robot.soles, strict=True):
+        pts = np.asarray(sole.points, float)
+        lo = np.append(pts[:, :2].min(axis=0) - ZONE_MARGIN, -ZONE_MARGIN)
+        hi = np.append(pts[:, :2].max(axis=0) + ZONE_MARGIN, ZONE_HEIGHT)
+        quat = np.empty(4)
+        mujoco.mju_mat2Quat(quat, np.ascontiguousarray(sole.rotation).ravel())
+        site = spec.body(body_name).add_site(
             name=name.removesuffix("_touch") + "_zone",
             type=mujoco.mjtGeom.mjGEOM_BOX,
-            pos=(lo + hi) / 2,
+            pos=sole.centre + sole.rotation @ ((lo + hi) / 2),
+            quat=quat,
             size=(hi - lo) / 2,
             group=5,
         )
@@ -42,24 +48,10 @@ def add_sole_touch_sensors(spec: Any, sole_bodies: tuple[str, str]) -> None:
         )
 
 
-#: the site the world adds at the floating base for a model that ships no IMU
-ADDED_IMU_SITE = "gaitshift_imu"
-
-
-def add_imu_sensors(spec: Any) -> str:
-    """The IMU site of ``spec`` (an ``MjSpec``): the model's own (:data:`gaitshift.robots.model.IMU_SITE`
-    with a gyro and an accelerometer), else a site :data:`ADDED_IMU_SITE` at the origin of the floating
-    base (the body of the free joint) with a gyro and an accelerometer added. Returns the site name."""
-    from gaitshift.robots.model import IMU_SITE
-
-    kinds = {mujoco.mjtSensor.mjSENS_GYRO, mujoco.mjtSensor.mjSENS_ACCELEROMETER}
-    have = {s.type for s in spec.sensors if s.objtype == mujoco.mjtObj.mjOBJ_SITE and s.objname == IMU_SITE}
-    if kinds <= have:
-        return IMU_SITE
-    base = next(b for b in spec.bodies if any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in b.joints))
-    base.add_site(name=ADDED_IMU_SITE, pos=(0.0, 0.0, 0.0), group=5)
+def add_imu_sensors(spec: Any, site: str) -> None:
+    """A gyro and an accelerometer on the IMU ``site`` of ``spec`` (an ``MjSpec``), each unless the
+    model has one there already (the G1 ships both on ``imu_in_pelvis``)."""
+    have = {s.type for s in spec.sensors if s.objtype == mujoco.mjtObj.mjOBJ_SITE and s.objname == site}
     for kind, suffix in ((mujoco.mjtSensor.mjSENS_GYRO, "gyro"), (mujoco.mjtSensor.mjSENS_ACCELEROMETER, "accel")):
-        spec.add_sensor(
-            name=f"{ADDED_IMU_SITE}_{suffix}", type=kind, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=ADDED_IMU_SITE
-        )
-    return ADDED_IMU_SITE
+        if kind not in have:
+            spec.add_sensor(name=f"gaitshift_imu_{suffix}", type=kind, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=site)

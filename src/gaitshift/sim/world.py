@@ -24,6 +24,7 @@ import numpy as np
 
 from gaitshift.control.estimation.noise import noise_profile
 from gaitshift.control.frames import MotorCommand, OracleState, SensorFrame
+from gaitshift.control.settings import contact_source
 from gaitshift.models.terrain import Terrain
 from gaitshift.sim.contacts import ContactSensor, FootContacts, fall_reason
 from gaitshift.sim.latency import CommandDelay
@@ -76,6 +77,7 @@ class World:
         # the extra joint-velocity noise reaches the sensors only: the estimator is tuned to the profile
         self.sensors = SensorModel(m, with_joint_vel_noise(profile, opts.joint_vel_noise), opts.seed, plant.imu)
         self.imu_site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, plant.imu)
+        self.foot_force = contact_source(opts.contact, plant.robot) == "force"  # the robot has sole sensors
         joints = m.actuator_trnid[:, 0]
         self.motor_q = m.jnt_qposadr[joints] - 7  # motor -> index into the joint arrays (qpos[7:], qvel[6:])
         self.motor_v = m.jnt_dofadr[joints] - 6
@@ -122,7 +124,7 @@ class World:
             q=r.joints.q[self.motor_q],
             dq=r.joints.qd[self.motor_v],
             tau_est=d.actuator_force.copy(),
-            foot_force=r.forces.normal if self.opts.contact == "force" else None,
+            foot_force=r.forces.normal if self.foot_force else None,
             oracle=self._truth() if self.oracle else None,
         )
 

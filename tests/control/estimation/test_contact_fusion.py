@@ -3,14 +3,15 @@ rests at the ground level stays on through a force below the noise, and is relea
 moves; an off sole resting at the ground switches on in the plan's stance only; a small sustained
 load on a sole at the ground level is found by the CUSUM within its expected delay while pure noise
 there rarely switches it on, and the same load above the ground band is left to the force trigger; in
-the plan's swing the latest sample releases the sole at once; bad settings raise InputError."""
+the plan's swing the latest sample releases the sole at once, and so does a rise off the sole's own
+stand; bad settings raise InputError."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gaitshift.control.estimation.contact_fusion import CUSUM_SHIFT, CUSUM_THRESHOLD, ContactFusion
+from gaitshift.control.estimation.contact_fusion import CUSUM_SHIFT, CUSUM_THRESHOLD, LIFT_HEIGHT, ContactFusion
 from gaitshift.errors import InputError
 
 WEIGHT = 330.0  # N, the G1
@@ -97,6 +98,25 @@ def test_the_plans_swing_releases_on_the_latest_sample():
     assert list(_run(det, loaded, HIGH, FALSE)) == [True, False]  # the mean (0.75 W) lags; the sample does not
     det.reset((True, True))
     assert list(_run(det, loaded, HIGH, TRUE)) == [True, True]  # in the plan's stance the mean decides
+
+
+def test_a_sole_that_rose_off_its_floor_in_the_plans_swing_is_off_whatever_its_lagging_force():
+    """A rigid floor does not let a loaded sole rise: in the plan's swing a sole whose lowest point rose
+    more than LIFT_HEIGHT above where it stood, still rising, is off although its (lagging) force reads
+    the weight; in the plan's stance, or not rising, or risen less, the force decides; a sole standing
+    on a higher tread (far above the ground level, at its own stand) keeps its contact."""
+    loaded = np.full(3, WEIGHT / 2)
+    risen = GROUND + 1.5 * LIFT_HEIGHT
+    assert not _run(_fusion(), loaded, risen, FALSE, vz=0.3).any()
+    assert _run(_fusion(), loaded, risen, TRUE, vz=0.3).all()  # the plan's stance: the force decides
+    assert _run(_fusion(), loaded, risen, FALSE, vz=0.0).all()  # not rising
+    assert _run(_fusion(), loaded, GROUND + 0.5 * LIFT_HEIGHT, FALSE, vz=0.3).all()  # risen less
+    tread = ContactFusion(ON, OFF, STD, window=1)
+    tread.reset((True, True))
+    step = 0.1  # the left sole on a tread 10 cm above the right one, both loaded and still
+    tread.update(np.full(2, WEIGHT / 2), np.array([step, GROUND]), np.zeros(2), TRUE)
+    assert _run(tread, loaded, step, FALSE, vz=0.3).all()  # rolling on its toe: still at its own stand
+    assert not _run(tread, loaded, step + 1.5 * LIFT_HEIGHT, FALSE, vz=0.3).any()
 
 
 @pytest.mark.parametrize(

@@ -21,7 +21,7 @@ import pytest
 
 from gaitshift.bench.g1sway import record_g1_sway
 from gaitshift.control.estimation import ContactDetector, StateEstimator, kernels
-from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, ContactFusion
+from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, LIFT_HEIGHT, ContactFusion
 from gaitshift.control.estimation.slip import SlipDetector
 from gaitshift.robots import load_robot
 
@@ -69,12 +69,15 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
     fusion = ContactFusion(on, off, std, window)
     ist, fst = np.zeros(kernels.IST_SIZE, np.int64), np.zeros(kernels.FST_SIZE)
     fst[kernels.F_GROUND] = np.nan
+    fst[kernels.F_STAND : kernels.F_STAND + 2] = np.nan
     recent, means = np.zeros((2, window)), np.zeros(2)
-    par = np.array([on, off, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still, CUSUM_THRESHOLD])
+    par = np.array(
+        [on, off, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still, CUSUM_THRESHOLD, LIFT_HEIGHT]
+    )
     fired = 0
     for _ in range(4000):
         normal = rng.uniform(-3.0, 14.0, 2)
-        heights = rng.uniform(-1.5e-3, 1.5e-3, 2)  # in and out of the ground band (0.8 mm)
+        heights = rng.uniform(-1.5e-3, 3.0e-3, 2)  # in and out of the ground band (0.8 mm), and lifted (2 mm)
         vz = rng.uniform(-0.08, 0.08, 2)
         planned = rng.random(2) < 0.7 if with_plan else None
         flags = det.update_values(normal.tolist())

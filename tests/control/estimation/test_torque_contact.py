@@ -36,6 +36,21 @@ def _frame(c: Controller, t: float, q: np.ndarray, dq: np.ndarray) -> SensorFram
     return SensorFrame(t, quat, np.zeros(3), up, q[idx].copy(), dq[vdx].copy(), np.zeros(m.nu), np.full(2, 160.0))
 
 
+def _in_the_air(ctrl: Controller, damping: bool = True):
+    """The controller's robot model without the joints' dry friction (and damping unless ``damping``),
+    and a state of it 0.5 m above its start pose (the controller's model has no floor)."""
+    import copy
+
+    m = copy.copy(ctrl.robot.model)
+    m.dof_frictionloss[:] = 0.0
+    if not damping:
+        m.dof_damping[:] = 0.0
+    d = mujoco.MjData(m)
+    d.qpos[:] = ctrl.initial_qpos()
+    d.qpos[2] += 0.5
+    return replace(ctrl.robot, model=m), d
+
+
 @pytest.fixture(scope="module")
 def ctrl():
     return Controller.from_scenario("g1-walk", state="oracle")
@@ -74,14 +89,8 @@ def test_a_robot_in_the_air_reads_no_sole_force(ctrl):
     """Random torques and velocities with nothing on the soles: eq. (2) on MuJoCo's forward-dynamics
     accelerations reads zero on both soles. The joints' dry friction (a constraint force eq. (1) leaves
     out) is switched off for the identity, and with it on the error stays within its bound."""
-    import copy
-
-    m = copy.copy(ctrl.robot.model)
-    m.dof_frictionloss[:] = 0.0
-    robot = replace(ctrl.robot, model=m)
-    d = mujoco.MjData(m)
-    d.qpos[:] = ctrl.initial_qpos()
-    d.qpos[2] += 0.5
+    robot, d = _in_the_air(ctrl)
+    m = robot.model
     rng = np.random.default_rng(3)
     d.qvel[:] = rng.normal(0.0, 0.3, m.nv)
     tau = rng.normal(0.0, 5.0, m.nu)
@@ -99,8 +108,8 @@ def test_a_robot_in_the_air_reads_no_sole_force(ctrl):
 
 def test_the_window_differentiates_a_constant_acceleration_exactly():
     """Joint angles and base velocity of a motion with constant accelerations (quadratic angles,
-    linear velocities): the window's centre acceleration is exact, and the torque is the mean of the
-    ticks that moved the centre."""
+    linear velocities): the window's centre acceleration is exact, and the torque is the triangular
+    mean about the centre (a torque rising by one per tick reads the centre's)."""
     from gaitshift.control.estimation.torque_contact import AccelerationWindow
 
     n, dt, nj = 3, 0.002, 4
@@ -115,4 +124,38 @@ def test_the_window_differentiates_a_constant_acceleration_exactly():
         w.push(qpos, qvel, np.full(2, float(k)))
     assert w.full
     np.testing.assert_allclose(w.acceleration(), acc_true, rtol=1e-6, atol=1e-8)
-    np.testing.assert_allclose(w.mean_torque(), np.full(2, np.mean(np.arange(1, 2 * n + 1))))
+    np.testing.assert_allclose(w.mean_torque(), np.full(2, float(n)))
+    assert w.weights.sum() == pytest.approx(1.0)
+
+
+def test_a_torque_step_inside_the_window_reads_no_sole_force(ctrl):
+    """The robot in the air (the controller's model has no floor), stepped by MuJoCo under torques that
+    jump every few ticks (as at a planned touch-down or lift-off): eq. (2) on the window's accelerations
+    and torques reads no sole force, since both are the same weighted mean of eq. (1) (joint damping and
+    dry friction off for the identity). A uniform mean of the torques reads a torque step as a force."""
+    from gaitshift.control.estimation.torque_contact import AccelerationWindow
+
+    robot, d = _in_the_air(ctrl, damping=False)
+    m = robot.model
+    rng = np.random.default_rng(5)
+    n = 5
+    window, contact = AccelerationWindow(n, m.opt.timestep), TorqueContact(robot)
+    worst = {"triangular": 0.0, "uniform": 0.0}
+    tau = np.zeros(m.nu)
+    for k in range(8 * n):
+        if k % 3 == 0:
+            tau = rng.normal(0.0, 3.0, m.nu)
+        state = (d.qpos.copy(), d.qvel.copy())
+        d.ctrl[:] = tau
+        mujoco.mj_step(m, d)
+        window.push(*state, d.actuator_force.copy())  # the state and the torque that moved it on
+        if not window.full:
+            continue
+        centre = window.centre_data(m)
+        acc = window.acceleration()
+        triangular = contact.normal_forces(centre, window.mean_torque(), acc)
+        worst["triangular"] = max(worst["triangular"], *np.abs(triangular))
+        uniform = np.mean(window.tau[1:], axis=0)
+        worst["uniform"] = max(worst["uniform"], *np.abs(contact.normal_forces(centre, uniform, acc)))
+    assert worst["triangular"] < 1.0  # newtons: M, b and J vary a little over the window
+    assert worst["uniform"] > 10 * worst["triangular"]

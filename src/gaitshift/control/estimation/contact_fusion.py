@@ -22,6 +22,7 @@ The rules (a Schmitt trigger on the force whose switching depends on the other c
     rest_i = |dz_i| < near and |vz_i| < still                            the sole rests at the ground level
     off -> on  if fbar_i > on  or  (planned_i and rest_i)  or  (|dz_i| < near and S_i > cusum_h)
     on -> off  if g_i < off  and not rest_i,   g_i = fbar_i if planned_i else min(fbar_i, f_i)
+    off        whenever lifted_i = not planned_i and z_i - z_s,i > lift and vz_i > still   (it rose off its floor)
     S_i = max(0, S_i + (d / s^2) (f_i - d / 2)),  d = cusum_shift s       (reset when on or not near)
 
 ``S_i`` is Page's CUSUM, the log-likelihood ratio of a force of mean ``d`` against zero mean (white
@@ -29,6 +30,12 @@ Gaussian noise of std ``s``): a small sustained load on a sole at floor level (a
 after ``~ 2 cusum_h / (d / s)^2`` ticks, while a sole higher than ``near`` never switches on without
 the plain threshold. In the plan's swing, a sole whose latest force sample is already below ``off``
 is released at once (a running lift-off unloads the sole in one tick; the mean lags one tick).
+``z_s,i`` is sole ``i``'s own lowest-point height at its last tick on, still (``|vz_i| < still``),
+with a confident force: a rigid floor does not let a loaded sole's lowest point rise, so a sole of
+the plan's swing whose lowest point has risen ``lift`` above where it stood, still rising, has left
+the floor whatever its force says (a force from the motors' torques lags the lift-off by its window,
+:mod:`gaitshift.control.estimation.torque_contact`). The sole's own stand, not the ground level, so
+that a sole leaving a higher tread is not taken for a lifted one.
 A sole that is on stays on while it rests at the ground level (a graze found by the CUSUM, a sole
 unloaded before its lift-off); one that is off needs the plan's stance to switch on from rest alone.
 Without a plan (``planned=None``) the plan's rest and swing rules are off.
@@ -51,6 +58,9 @@ from gaitshift.errors import InputError
 NEAR_HEIGHT = 0.8e-3
 #: |vz| below this is a resting sole, m/s
 STILL_SPEED = 0.05
+#: rise of a sole's lowest point above where it stood that makes it lifted, m: ~9 std of the
+#: relative height of the soles in the estimate (NEAR_HEIGHT)
+LIFT_HEIGHT = 2e-3
 #: CUSUM target shift in std of one force sample, and its decision threshold (log-likelihood ratio)
 CUSUM_SHIFT, CUSUM_THRESHOLD = 0.7, 2.0
 
@@ -92,6 +102,7 @@ class ContactFusion:
         self._recent: list[list[float]] = [[], []]
         self._cusum = [0.0, 0.0]
         self.ground: float | None = None
+        self._stand: list[float | None] = [None, None]
 
     def update(
         self, force: np.ndarray, height: np.ndarray, vz: np.ndarray, planned: np.ndarray | None = None
@@ -114,6 +125,9 @@ class ContactFusion:
         loaded_l, loaded_r = left and forces[0] > on, right and forces[1] > on
         if loaded_l or loaded_r:
             self.ground = (heights[0] + heights[1]) / 2 if loaded_l and loaded_r else heights[0 if loaded_l else 1]
+        for i, loaded in ((0, loaded_l), (1, loaded_r)):
+            if loaded and -self.still < speeds[i] < self.still:
+                self._stand[i] = heights[i]
         return FLAG_PAIRS[left, right]
 
     def _sole(self, i: int, f: float, height: float, v: float, plan: bool, has_plan: bool) -> bool:
@@ -126,7 +140,12 @@ class ContactFusion:
         ground = self.ground
         near = ground is not None and abs(height - ground) < self.near
         rest = near and -self.still < v < self.still
-        if self._state[i]:
+        stand = self._stand[i]
+        lifted = has_plan and not plan and stand is not None and height - stand > LIFT_HEIGHT and v > self.still
+        if lifted:
+            on = False
+            self._cusum[i] = 0.0
+        elif self._state[i]:
             on = (mean if plan else min(mean, f)) >= self.off_force or (rest and has_plan)
             self._cusum[i] = 0.0
         elif near:

@@ -103,7 +103,7 @@ class StateEstimator:
         model: Any,
         dt: float,
         *,
-        imu_site: str = "imu_in_pelvis",
+        imu_site: str,
         sole_sites: tuple[str, str] = SOLE_SITES,
         filter: str = DEFAULT_FILTER,
         noise: str | NoiseProfile = "typical",
@@ -164,8 +164,10 @@ class StateEstimator:
     @classmethod
     def from_robot(cls, robot: Any, dt: float, **kwargs: Any) -> StateEstimator:
         """Estimator for a :class:`gaitshift.robots.RobotConfig` (its model without geoms,
-        :func:`~gaitshift.control.estimation.kinematics.kinematic_model`, its sole sites and points)."""
+        :func:`~gaitshift.control.estimation.kinematics.kinematic_model`, its sole sites and points,
+        its IMU site unless ``imu_site`` is given)."""
         left, right = (np.asarray(s.points) for s in robot.soles)
+        kwargs.setdefault("imu_site", robot.imu_site)
         return cls(kinematic_model(robot), dt, sole_sites=robot.SOLE_SITES, sole_points=(left, right), **kwargs)
 
     def reset(

@@ -36,7 +36,8 @@ IST_SIZE = 11
 # fst: float64 state
 F_CUSUM, F_VEL_LP, F_SPEED, F_GROUND = 0, 2, 6, 8  # cusum (2), vel_lp (2 x 2), speed (2), ground (NaN: none)
 F_OMEGA = 9  # (3,) this tick's bias-corrected IMU rate, rad/s
-FST_SIZE = 12
+F_STAND = 12  # (2,) each sole's lowest-point height at its last confident load, m (NaN: none yet)
+FST_SIZE = 14
 # return code of settle
 # settle's return code: bits 0-1 fused contact, 2-3 stance (force trigger), SUPPORT << i: sole i's centre
 # moves (the support test, in Python, decides its slip flag), FILTER_STANCE << i: the filter's stance flags
@@ -294,9 +295,11 @@ def fuse_contact(
     """The rules of contact_fusion.py: per sole, force mean ``means``, latest sample ``normal`` (N),
     lowest-point height ``heights`` (m) against the ground level ``fst[F_GROUND]`` (NaN: none yet),
     vertical speed ``vz`` (m/s), the plan's flags ``planned`` (bits 0, 1; -1: no plan); ``par`` =
-    [on, off, cusum gain, cusum half shift, near, still, cusum threshold]. Updates the flags
-    ``ist[I_FUSED]``, the CUSUMs and the ground level (the sole(s) on with ``f > on``)."""
+    [on, off, cusum gain, cusum half shift, near, still, cusum threshold, lift]. Updates the flags
+    ``ist[I_FUSED]``, the CUSUMs, the ground level (the sole(s) on with ``f > on``) and the soles'
+    stands (those of them still)."""
     on_f, off_f, gain, half, near_h, still, thresh = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
+    lift = par[7]
     has_plan = planned >= 0
     ground = fst[F_GROUND]
     for i in range(2):
@@ -304,7 +307,11 @@ def fuse_contact(
         f, mean = normal[i], means[i]
         near = abs(heights[i] - ground) < near_h  # False while the ground level is NaN
         rest = near and -still < vz[i] < still
-        if ist[I_FUSED + i] != 0:
+        lifted = has_plan and not plan and heights[i] - fst[F_STAND + i] > lift and vz[i] > still  # NaN: False
+        if lifted:
+            on = False
+            fst[F_CUSUM + i] = 0.0
+        elif ist[I_FUSED + i] != 0:
             on = (mean if plan else min(mean, f)) >= off_f or (rest and has_plan)
             fst[F_CUSUM + i] = 0.0
         elif near:
@@ -317,6 +324,10 @@ def fuse_contact(
         ist[I_FUSED + i] = int(on)
     loaded_l = ist[I_FUSED] != 0 and normal[0] > on_f
     loaded_r = ist[I_FUSED + 1] != 0 and normal[1] > on_f
+    if loaded_l and -still < vz[0] < still:
+        fst[F_STAND] = heights[0]
+    if loaded_r and -still < vz[1] < still:
+        fst[F_STAND + 1] = heights[1]
     if loaded_l and loaded_r:
         fst[F_GROUND] = (heights[0] + heights[1]) / 2
     elif loaded_l or loaded_r:

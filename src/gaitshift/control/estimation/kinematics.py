@@ -68,7 +68,7 @@ def kinematic_model(robot: Any) -> Any:
     :data:`KINEMATIC_FIELDS` (e.g. masses inferred from the geoms)."""
     model = robot.model()
     spec = mujoco.MjSpec.from_file(str(robot.mjcf))
-    robot.add_sole_sites(spec)
+    robot.add_sites(spec)
     for item in [*spec.geoms, *spec.meshes]:
         spec.delete(item)
     bare = spec.compile()
@@ -170,9 +170,10 @@ class LegKinematics:
         return int(sid)
 
     @classmethod
-    def from_robot(cls, robot: Any, imu_site: str = "imu_in_pelvis", encoder_std: float = 0.0) -> LegKinematics:
-        """Kinematics of a :class:`gaitshift.robots.RobotConfig` (its sole sites), IMU at ``imu_site``."""
-        return cls(kinematic_model(robot), imu_site, robot.SOLE_SITES, encoder_std)
+    def from_robot(cls, robot: Any, imu_site: str | None = None, encoder_std: float = 0.0) -> LegKinematics:
+        """Kinematics of a :class:`gaitshift.robots.RobotConfig` (its sole sites), IMU at ``imu_site``
+        (None: the robot's own, ``robot.imu_site``)."""
+        return cls(kinematic_model(robot), imu_site or robot.imu_site, robot.SOLE_SITES, encoder_std)
 
     def compute(self, q: np.ndarray, qd: np.ndarray) -> BodyKinematics:
         """Kinematics at joint angles ``q`` (nj,) rad and velocities ``qd`` (nj,) rad/s.

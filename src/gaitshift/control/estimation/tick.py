@@ -28,7 +28,7 @@ import numpy as np
 
 from gaitshift.control.estimation import kernels as k
 from gaitshift.control.estimation.contact import ContactDetector
-from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, ContactFusion
+from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, LIFT_HEIGHT, ContactFusion
 from gaitshift.control.estimation.inekf import InvariantEKF
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics
@@ -58,7 +58,7 @@ class CompiledTick:
         self.trigger = np.array([contact.on_force, contact.off_force, float(contact.debounce)])
         m = filt.mean_arrays(dt)
         fuse = [fusion.on_force, fusion.off_force, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still]
-        self.par = np.array([dt, float(m.every), slip.alpha, slip.slip_speed, *fuse, CUSUM_THRESHOLD])
+        self.par = np.array([dt, float(m.every), slip.alpha, slip.slip_speed, *fuse, CUSUM_THRESHOLD, LIFT_HEIGHT])
         n = max(len(p) for p in points)
         self.pts = np.array([np.concatenate([p, np.repeat(p[:1], n - len(p), axis=0)]) for p in points])
         d = kin.data
@@ -77,6 +77,7 @@ class CompiledTick:
         self.ist[k.I_STARTED] = int(started)
         self.fst[:] = 0.0
         self.fst[k.F_GROUND] = np.nan
+        self.fst[k.F_STAND : k.F_STAND + 2] = np.nan
         self.rates_lp[:] = 0.0
 
     def _settle(self, phase: int, imu: Any, normal: np.ndarray, planned: Any, out: np.ndarray) -> int:

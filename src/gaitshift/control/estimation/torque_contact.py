@@ -23,7 +23,8 @@ singular; a five-joint leg leaves the one wrench direction it cannot feel to the
 ``q``, ``\\dot q`` are the controller's state (the estimate), ``\\ddot q`` the MEASURED
 accelerations and ``tau`` the torques the motor drivers reported (``tau_est``), all at the centre of
 a window of ``2 n + 1`` ticks (:class:`AccelerationWindow`: second differences of the estimated
-joint angles, the torques averaged), so the force is ``n`` ticks late. The accelerations must be
+joint angles, the torques under the same triangular weights), so the force is ``n`` ticks late.
+The accelerations must be
 measured, not the ones the whole-body QP planned: the QP's torques and accelerations satisfy (1)
 with the QP's own contact forces, so they would only give back what the controller assumed. The
 normal force is ``f_i . n_i`` with ``n_i`` the sole's normal (the sole frame's z axis). Its error
@@ -98,14 +99,22 @@ class TorqueContact:
 
 class AccelerationWindow:
     """The last ``2 n + 1`` ticks of the controller's state and the reported torques, and the
-    accelerations at the window's centre ``c`` (n ticks ago)::
+    accelerations and torques at the window's centre ``c`` (n ticks ago), both the same weighted mean
+    over the ticks, so that eq. (1) holds for the means as it holds at each tick.
 
-        qdd_joints = (q_k - 2 q_c + q_{k-2n}) / (n dt)^2        second difference of the joint angles
-        qdd_base   = (v_{c+n} - v_{c-n}) / (2 n dt)              central difference of the base velocity
+    With the integrator's update ``v_{k+1} = v_k + dt a_k``, ``q_{k+1} = q_k + dt v_{k+1}``, the second
+    difference of the joint angles is a triangular mean of the accelerations::
 
-    with the torques averaged over the ticks ``c - n + 1 .. c + n`` that moved it. Angles, not
-    velocities: the estimated joint velocities come from encoder differences and their difference is
-    ten times noisier (docs/estimation.md, "Contact without foot force")."""
+        (q_{c+n} - 2 q_c + q_{c-n}) / (n dt)^2 = sum_j w_j a_{c+j},   w_j = (n - |j|) / n^2,  |j| < n
+
+    (the weights sum to 1). The base's accelerations take the same mean from its velocities,
+    ``(mean(v_{c+1..c+n}) - mean(v_{c-n+1..c})) / (n dt)``, and the torques too. Each tick of the
+    window pairs a state with the torque that moved it on (:meth:`push`), so ``a_{c+j}`` goes with
+    the torque of tick ``c + j``. A uniform mean of the torques against the triangular one of the accelerations
+    would read a torque step inside the window as a sole force (at every planned touch-down and
+    lift-off, where the controller switches its torques). Angles, not velocities, for the joints: the
+    estimated joint velocities come from encoder differences and their difference is ten times
+    noisier (docs/estimation.md, "Contact without foot force")."""
 
     def __init__(self, n: int, dt: float) -> None:
         if n < 1:
@@ -115,13 +124,18 @@ class AccelerationWindow:
         self.qvel: list[np.ndarray] = []
         self.tau: list[np.ndarray] = []
         self._data: Any = None
+        idx = np.arange(2 * self.n + 1)
+        #: weight of the torque of each tick of the window (tick c + j <-> w_j; class docstring)
+        self.weights = np.maximum(self.n - np.abs(idx - self.n), 0) / self.n**2
 
     @property
     def full(self) -> bool:
         return len(self.qpos) == 2 * self.n + 1
 
     def push(self, qpos: np.ndarray, qvel: np.ndarray, tau: np.ndarray) -> None:
-        """Add the newest tick (the oldest beyond the window drops out)."""
+        """Add the newest tick: a state (qpos (nq,), qvel (nv,)) and the torques (nu,) N m that moved it on
+        (the motors' report of the next frame: the controller pushes its previous tick's state with the
+        new frame's ``tau_est``). The oldest tick beyond the window drops out."""
         for rows, x in ((self.qpos, qpos), (self.qvel, qvel), (self.tau, tau)):
             rows.append(np.array(x, float))
             if len(rows) > 2 * self.n + 1:
@@ -137,13 +151,14 @@ class AccelerationWindow:
         return d
 
     def acceleration(self) -> np.ndarray:
-        """The accelerations (nv,) at the centre (class docstring)."""
+        """The triangular mean (nv,) of the accelerations about the centre (class docstring)."""
         n, h = self.n, self.n * self.dt
-        acc: np.ndarray = (self.qvel[2 * n] - self.qvel[0]) / (2 * h)
+        late: np.ndarray = np.mean(self.qvel[n + 1 :], axis=0)
+        acc: np.ndarray = (late - np.mean(self.qvel[1 : n + 1], axis=0)) / h
         acc[6:] = (self.qpos[2 * n][7:] - 2 * self.qpos[n][7:] + self.qpos[0][7:]) / (h * h)
         return acc
 
     def mean_torque(self) -> np.ndarray:
-        """The reported torques (nu,) averaged over the ticks that moved the centre state."""
-        mean: np.ndarray = np.mean(self.tau[1:], axis=0)
+        """The reported torques (nu,) under the accelerations' weights (class docstring)."""
+        mean: np.ndarray = self.weights @ np.asarray(self.tau)
         return mean
