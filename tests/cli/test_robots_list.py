@@ -26,3 +26,10 @@ def test_a_robot_yaml_of_ones_own_is_described_like_the_builtins(cli, tmp_path):
 def test_a_missing_robot_yaml_is_one_error_line(cli, tmp_path):
     code, out, err = cli(["robots", "g1", str(tmp_path / "nope.yaml")])
     assert code == 2 and out == "" and err.count("\n") == 1 and "no such file" in err
+
+
+def test_each_line_says_where_the_imu_is_and_whether_the_soles_measure_force(cli):
+    code, out, _ = cli(["robots", "g1", "op3"])
+    g1, op3 = out.splitlines()
+    assert code == 0 and g1.endswith("IMU site imu_in_pelvis, no foot force")
+    assert op3.endswith("IMU on body_link, no foot force")  # the OP3's floating base: its MJCF has no IMU

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -29,8 +30,16 @@ def robots_cmd(
         typer.echo(
             f"{r.name:4s} {r.description or r.source}: {r.mass:.1f} kg, {len(r.joint_names)} joints, CoM height "
             f"{r.com_height:.3f} m, leg length {r.leg_length:.3f} m, soles {r.sole_size[0]:.3f} x "
-            f"{r.sole_size[1]:.3f} m"
+            f"{r.sole_size[1]:.3f} m, IMU {_imu(r)}, {'foot force' if r.sensors.foot_force else 'no foot force'}"
         )
+
+
+def _imu(robot: Any) -> str:
+    """Where the robot's IMU is: its MJCF's site, or the body (and offset, m) the YAML mounts it on."""
+    mount = robot.sensors.imu
+    if mount.body is None:
+        return f"site {mount.site}"
+    return f"on {mount.body}" + ("" if not any(mount.pos) else " at [" + ", ".join(f"{x:g}" for x in mount.pos) + "]")
 
 
 @app.command("wholebody")

@@ -12,6 +12,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import physics
+from gaitshift.scenario.facts import RobotFacts
 from loco_checks import plan, ss_starts
 
 
@@ -61,6 +62,30 @@ def test_a_stop_from_running_ends_at_rest_with_the_feet_side_by_side():
     yaw = last[0, 3]
     sep = (last[0, :2] - last[1, :2]) @ np.array([np.cos(yaw), np.sin(yaw)])
     assert abs(sep) < 1e-9  # side by side: no offset along the heading
+
+
+def test_a_robot_whose_soles_nearly_touch_in_its_stance_stops_at_rest():
+    """The OP3's facts (soles 0.078 m wide, stance 0.095 m): a slow walk and a stop end at rest with the
+    feet side by side at the stance width (every stop was postponed while the least step width, 1.2
+    sole widths, exceeded what the step before the stop needs), and the soles never overlap."""
+    op3 = RobotFacts("op3", 3.15, 0.22, 0.251, (0.127, 0.078), 0.095)
+    _, d = plan([{"t": 0.0, "vx": 0.05}], 2.0, facts=op3)
+    assert d["t"][-1] < 10.0
+    assert np.abs(d["com_vel"][-1]).max() < 1e-9 and np.abs(d["com_acc"][-1]).max() < 1e-9
+    last = d["footsteps"][-2:]
+    yaw = last[0, 3]
+    lateral = (last[0, :2] - last[1, :2]) @ np.array([-np.sin(yaw), np.cos(yaw)])
+    assert abs(abs(lateral) - 0.095) < 1e-9
+    steps = d["footsteps"][2:, 1]  # from the first step on, consecutive footholds are of opposite feet
+    gaps = np.abs(np.diff(steps))  # lateral: the walk is straight along x
+    assert np.all(gaps > 0.078) and gaps.min() < 0.094  # apart, and closer than 1.2 sole widths
+
+
+def test_a_width_range_without_the_step_width_is_refused():
+    from gaitshift.errors import InputError
+
+    with pytest.raises(InputError, match=r"limits\.width"):
+        plan([{"t": 0.0, "vx": 0.3}], 2.0, limits={"width": [0.25, 0.40]})
 
 
 def test_foot_yaw_at_touchdown_equals_the_heading(tour):

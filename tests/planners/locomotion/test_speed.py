@@ -105,3 +105,19 @@ def test_random_command_sequences_at_odd_times_meet_the_speed(changes, v0):
         for a, b, vv in _windows_after(d, c0["t"], 2 + n_ramp + switch_steps):
             if d["t"][b] <= c1["t"] and np.all(d["gait"][a:b] == d["gait"][a]):
                 assert abs(vv[0] - c0["vx"]) < 1e-3, (d["t"][a], vv, c0)
+
+
+def test_a_command_beyond_what_the_stride_limit_holds_runs_at_the_limit_and_stops_at_rest():
+    """A held 2.6 m/s (the G1's Froude limit) with the default limits: the applied speed stays at
+    max_stride / running step period - one step's acceleration, every step stays within max_stride,
+    the stride-mean speed meets that limit, and the stop comes to rest (above the limit the plans
+    compromised step after step and no stop reached rest)."""
+    gen, d = plan([{"t": 0.0, "vx": 2.6}], 8.0)
+    p = gen.p
+    cap = p.limits.max_stride / (p.timing.run_single + p.timing.flight) - p.limits.max_accel[0]
+    assert abs(p.limits.max_speed[0] - cap) < 1e-12
+    strides = np.linalg.norm(np.diff(d["footsteps"][:, :2], axis=0), axis=1)
+    assert strides.max() <= p.limits.max_stride + 1e-9
+    fast = [v[0] for a, _, v in stride_means(d) if d["t"][a] < 8.0]
+    assert abs(max(fast) - cap) < 1e-3
+    assert np.abs(d["com_vel"][-1]).max() < 1e-9 and d["t"][-1] < 8.0 + 10.0

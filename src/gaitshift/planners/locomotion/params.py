@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from gaitshift.errors import InputError
 from gaitshift.planners.locomotion.steps import Timing
 from gaitshift.scenario.facts import RobotFacts
 
@@ -82,6 +83,8 @@ PAPER_SWING = 0.08
 #: below the constant-height walk's envelope, which the G1 holds to Fr = 0.12 (0.9 m/s) and not at 0.15
 FROUDE_UP = 0.10
 FROUDE_DOWN = 0.06
+#: the least gap between two soles side by side, as a share of the sole width (default width limits)
+SOLE_CLEARANCE = 0.05
 #: Froude numbers of the default speed limits: forward, backward, lateral
 FROUDE_SPEED = (1.0, 0.05, 0.03)
 #: default per-step accelerations: vx and vy as fractions of sqrt(g l), and the yaw rate (rad/s)
@@ -118,14 +121,15 @@ def params_from_scenario(sc: Any, facts: RobotFacts | None) -> LocomotionParams:
     foot = tuple(sc.foot.size) if sc.foot.size else (facts.sole_size if facts else PAPER_FOOT)
     width = sc.step_width or (facts.foot_separation if facts else PAPER_STEP_WIDTH * lam)
     lim = sc.limits
-    speed = lim.max_speed or tuple(math.sqrt(f) * sgl for f in FROUDE_SPEED)
+    max_stride = lim.max_stride or STRIDE_PER_LEG * leg
     accel = lim.max_accel or (ACCEL_SHARE[0] * sgl, ACCEL_SHARE[1] * sgl, YAW_ACCEL)
+    speed = lim.max_speed or _default_speeds(sgl, max_stride, timing, sc.gait, float(accel[0]))
     limits = Limits(
         max_speed=(float(speed[0]), float(speed[1]), float(speed[2])),
         max_yaw_rate=lim.max_yaw_rate or MAX_YAW_RATE,
         max_accel=(float(accel[0]), float(accel[1]), float(accel[2])),
-        max_stride=lim.max_stride or STRIDE_PER_LEG * leg,
-        width=tuple(lim.width) if lim.width else (max(1.2 * foot[1], 0.5 * width), 2.0 * width),
+        max_stride=max_stride,
+        width=_width_limits(lim.width, foot, width),
         max_turn=lim.max_turn or MAX_TURN,
     )
     up = sc.switch.walk_to_run or math.sqrt(FROUDE_UP * g * leg)
@@ -145,3 +149,39 @@ def params_from_scenario(sc: Any, facts: RobotFacts | None) -> LocomotionParams:
         limits=limits,
         first_swing=0 if sc.first_swing == "left" else 1,
     )
+
+
+def _width_limits(given: Any, foot: tuple[float, float], width: float) -> tuple[float, float]:
+    """The (min, max) lateral distance of consecutive footholds, m: ``given``, else from the sole width
+    plus :data:`SOLE_CLEARANCE` of it (side by side, the soles do not touch) or half the step width,
+    whichever is more, to twice the step width, the range holding the step width itself. A wider
+    clearance (it was 0.2 sole widths) left the OP3 no way to stop: its stance is 0.095 m wide with
+    soles 0.078 m wide, and the step before its stop must land 0.087 m from the other foot to bring
+    the sway to rest; with a minimum of 0.094 m every stop was postponed ("no rest within the limits
+    yet") until the run's time ran out.
+
+    Raises:
+        InputError: a given range that does not hold the step width.
+    """
+    if given:
+        lo, hi = float(given[0]), float(given[1])
+        if not lo <= width <= hi:
+            raise InputError("limits.width", list(given), f"a range that holds the step width {width:.4f} m")
+        return lo, hi
+    return min(max((1.0 + SOLE_CLEARANCE) * foot[1], 0.5 * width), width), 2.0 * width
+
+
+def _default_speeds(
+    sgl: float, max_stride: float, timing: Timing, gait: str, accel: float
+) -> tuple[float, float, float]:
+    """The default (forward, backward, lateral) speed limits, m/s: sqrt(Fr g l) of
+    :data:`FROUDE_SPEED`, the forward one at most what the stride limit holds in the fastest gait the
+    scenario allows: ``max_stride`` over its steady step period (running: single support + flight;
+    walking: single + double support), less one step's speed change ``accel`` (the step that reaches
+    the speed still carries the orbit of the last one). Above it the plans compromise step after step,
+    drift off the orbit and no stop reaches rest: the G1 (0.90 m / 0.392 s = 2.30 m/s, 0.26 m/s per
+    step) ran away on a held command of 2.3 m/s and more, and reached its stop with compromises at
+    2.25 m/s; the limit is 2.04 m/s."""
+    fwd, back, side = (math.sqrt(f) * sgl for f in FROUDE_SPEED)
+    period = timing.walk_single + timing.double if gait == "walk" else timing.run_single + timing.flight
+    return min(fwd, max_stride / period - accel), back, side
