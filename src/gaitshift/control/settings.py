@@ -8,6 +8,7 @@ from typing import Any
 from gaitshift.control.estimation.filters import FILTERS
 from gaitshift.control.feedback import CaptureSettings
 from gaitshift.control.reference import SwingSettings
+from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.control.schedule import ScheduleSettings
 from gaitshift.control.wbc_data import Gains
 from gaitshift.errors import InputError, number_in
@@ -44,6 +45,9 @@ class ControllerSettings:
             (:mod:`gaitshift.control.state`, eq. (1)); 0: none.
         contact: the contact detector's sole forces: ``"force"`` (the robot's foot-force sensors) or
             ``"torque"`` (from the motors' torques, :mod:`gaitshift.control.estimation.torque_contact`).
+        replan: where a plan driver re-plans (:mod:`gaitshift.control.replanner`): ``"inline"`` (in the
+            tick: deterministic), ``"thread"`` or ``"process"`` (a background worker; the tick never waits
+            for a re-plan, the new plan is tracked from the tick that finds it done).
     """
 
     gains: Gains | None = None
@@ -58,6 +62,7 @@ class ControllerSettings:
     assumed_friction: float | None = None
     latency: int = 0
     contact: str = "force"
+    replan: str = "inline"
 
     def __post_init__(self) -> None:
         if self.state is not None and self.state not in STATE_SOURCES:
@@ -74,6 +79,8 @@ class ControllerSettings:
         lat = self.latency
         if isinstance(lat, bool) or not isinstance(lat, int) or not LATENCY_RANGE[0] <= lat <= LATENCY_RANGE[1]:
             raise InputError("latency", lat, f"an integer number of ticks in [{LATENCY_RANGE[0]}, {LATENCY_RANGE[1]}]")
+        if self.replan not in REPLAN_MODES:
+            raise InputError("replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
 
     @classmethod
     def of(cls, **given: Any) -> ControllerSettings:

@@ -32,6 +32,7 @@ import numpy as np
 
 from gaitshift.control.controller import Controller
 from gaitshift.control.frames import MotorCommand, SensorFrame
+from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.dds.convert import frame_from_lowstate, lowcmd_from_command
 from gaitshift.dds.crc import lowstate_crc
 from gaitshift.dds.g1 import check_motor_order
@@ -60,6 +61,7 @@ class BrainOptions:
         stale: s. damping_time, standup_time: s. damping_kd: N m s/rad. tilt: rad.
         final_damping: s of damping written after ``stop`` or ``fault`` before exiting.
         contact: the controller's contact detection ("torque": no foot force needed).
+        replan: where the controller re-plans (:mod:`gaitshift.control.replanner`; "process": off the tick).
     """
 
     scenario: str
@@ -76,6 +78,7 @@ class BrainOptions:
     tilt: float = 0.6
     final_damping: float = 0.2
     contact: str = "torque"
+    replan: str = "process"
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
@@ -84,6 +87,8 @@ class BrainOptions:
         check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)
         number_in("--state-timeout", self.state_timeout, (0.01, 600.0), "s")
         number_in("--final-damping", self.final_damping, (0.0, 60.0), "s")
+        if self.replan not in REPLAN_MODES:
+            raise InputError("--replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
 
 
 @dataclass(frozen=True)
@@ -98,6 +103,8 @@ class BrainSummary:
         replan_max_ms; locomotion_p50_ms, locomotion_max_ms: the other controller ticks.
         states_received: LowState_ taken; states_dropped: of which dropped for their CRC.
         planned_distance: m, the plan's horizontal CoM travel. wall_time: s. lockstep: the pacing.
+        plan_lag_p50, plan_lag_max: ticks a background re-plan's plan came after the tick it was due at
+        (NaN inline: none).
     """
 
     exit_code: int
@@ -120,6 +127,8 @@ class BrainSummary:
     planned_distance: float = math.nan
     wall_time: float = 0.0
     lockstep: bool = False
+    plan_lag_p50: float = math.nan
+    plan_lag_max: float = math.nan
 
     def as_dict(self) -> dict[str, Any]:
         """The summary as plain values (NaN kept: write it with finite_json)."""
@@ -127,9 +136,9 @@ class BrainSummary:
 
 
 def build_controller(opts: BrainOptions) -> Controller:
-    """The controller of ``opts.scenario`` on ``opts.robot`` with ``contact=opts.contact``; its motors must
-    be the hg slots in order (the G1)."""
-    ctrl = Controller.from_scenario(opts.scenario, opts.robot, contact=opts.contact)
+    """The controller of ``opts.scenario`` on ``opts.robot`` with ``contact=opts.contact`` and
+    ``replan=opts.replan``; its motors must be the hg slots in order (the G1)."""
+    ctrl = Controller.from_scenario(opts.scenario, opts.robot, contact=opts.contact, replan=opts.replan)
     check_motor_order(ctrl.motor_names)
     return ctrl
 
@@ -288,6 +297,7 @@ def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: flo
         return BrainSummary(code, reason, phase, wall_time=wall)
     s = brain.log.stats()
     com = brain.ctrl.trajectory.com_pos
+    lags = np.asarray(getattr(brain.ctrl.replan, "lags", []), float)
     return BrainSummary(
         code,
         reason,
@@ -309,6 +319,8 @@ def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: flo
         float(np.linalg.norm(com[-1, :2] - com[0, :2])),
         wall,
         brain.opts.lockstep,
+        float(np.median(lags)) if len(lags) else math.nan,
+        float(lags.max()) if len(lags) else math.nan,
     )
 
 
