@@ -2,7 +2,7 @@
 run in one process on gaitshift's MuJoCo world, the DDS transport replaced by cyclonedds's own
 ``serialize`` / ``deserialize`` of the messages (what a DataWriter and a DataReader do to them).
 
-    PYTHONPATH=src .venv/bin/python benchmarks/brain_ticks.py [SCENARIO] [--replan MODE] [--json out.json]
+    PYTHONPATH=src .venv/bin/python benchmarks/brain_ticks.py [SCENARIO] [--replan MODE] [--wire W] [--json out.json]
 
 After the warm-up (:mod:`gaitshift.dds.warmup`), every tick of the safety phases and of the locomotion
 until the plan ends is timed per stage with ``time.perf_counter``: ``deserialize`` (LowState_),
@@ -11,7 +11,10 @@ until the plan ends is timed per stage with ``time.perf_counter``: ``deserialize
 set), ``serialize`` (LowCmd_); and ``total``, their sum. Percentiles in ms, the count over 2 ms.
 ``--replan`` (inline, thread, process; default process as ``gaitshift dds control``): where the controller
 re-plans (:mod:`gaitshift.control.replanner`); a background mode also reports ``plan_lag``, the ticks
-each new plan came after the tick it was due at.
+each new plan came after the tick it was due at. ``--wire`` (cdr, cyclonedds; default cdr as the brain):
+the messages read and written as their bytes (:mod:`gaitshift.dds.cdr`: ``deserialize`` is
+``StateBytes(data)``, ``command`` is ``lowcmd_bytes``, which serializes too: ``serialize`` is 0) or by
+cyclonedds's ``deserialize`` / ``serialize``.
 """
 
 from __future__ import annotations
@@ -24,7 +27,8 @@ from dataclasses import replace
 import numpy as np
 
 from gaitshift.dds.brain import BrainOptions, build_controller
-from gaitshift.dds.convert import frame_from_lowstate, lowcmd_from_command, lowstate_from_frame
+from gaitshift.dds.cdr import StateBytes
+from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes, lowcmd_from_command, lowstate_from_frame
 from gaitshift.dds.gravity import standing_torques
 from gaitshift.dds.messages import LowState_
 from gaitshift.dds.safety import Limits, Safety, SafetySettings, standup_gains
@@ -49,7 +53,7 @@ def machine(ctrl, standup_time):
     return Safety(limits, settings, ctrl.initial_qpos()[adr])
 
 
-def run(scenario, standup_time, replan="process"):
+def run(scenario, standup_time, replan="process", wire="cdr"):
     opts = BrainOptions(scenario, replan=replan)
     ctrl = build_controller(opts)
     warm_up(build_controller(replace(opts, replan="inline")))
@@ -61,7 +65,7 @@ def run(scenario, standup_time, replan="process"):
         world.observe(k)
         data = lowstate_from_frame(world.sense(k), k, 0).serialize()
         t, times, kind = k * ctrl.period, [time.perf_counter()], 0
-        msg = LowState_.deserialize(data)
+        msg = StateBytes(data) if wire == "cdr" else LowState_.deserialize(data)
         times.append(time.perf_counter())
         frame = frame_from_lowstate(msg, t, len(ctrl.motor_names))
         times.append(time.perf_counter())
@@ -79,9 +83,13 @@ def run(scenario, standup_time, replan="process"):
         else:
             times.append(times[-1])
         times.append(time.perf_counter())
-        out = lowcmd_from_command(cmd, msg.mode_machine)
-        times.append(time.perf_counter())
-        out.serialize()
+        if wire == "cdr":
+            lowcmd_bytes(cmd, msg.mode_machine)
+            times.append(time.perf_counter())
+        else:
+            out = lowcmd_from_command(cmd, msg.mode_machine)
+            times.append(time.perf_counter())
+            out.serialize()
         times.append(time.perf_counter())
         rows.append(np.diff(times))
         kinds.append(kind)
@@ -107,11 +115,12 @@ def main():
     p.add_argument("scenario", nargs="?", default="g1-walk")
     p.add_argument("--standup-time", type=float, default=2.0)
     p.add_argument("--replan", choices=("inline", "thread", "process"), default="process")
+    p.add_argument("--wire", choices=("cdr", "cyclonedds"), default="cdr")
     p.add_argument("--json")
     a = p.parse_args()
-    ms, kinds, phase, lags = run(a.scenario, a.standup_time, a.replan)
+    ms, kinds, phase, lags = run(a.scenario, a.standup_time, a.replan, a.wire)
     total = ms.sum(axis=1)
-    out = {"ticks": len(total), "phase": phase, "replan": a.replan, "total": stats(total)}
+    out = {"ticks": len(total), "phase": phase, "replan": a.replan, "wire": a.wire, "total": stats(total)}
     out |= {s: stats(ms[:, i]) for i, s in enumerate(STAGES)}
     out["controller_replan"] = stats(ms[kinds == 2, 3]) | {"ticks": int((kinds == 2).sum())}
     out["controller_other"] = stats(ms[kinds == 1, 3]) | {"ticks": int((kinds == 1).sum())}

@@ -3,13 +3,16 @@ the safety state machine (:mod:`gaitshift.dds.safety`).
 
 Each tick::
 
-    take rt/lowstate                  the newest state with a good CRC (bad CRCs dropped and counted)
+    take rt/lowstate                  the newest state with a good CRC (bad CRCs dropped and counted), as bytes
     frame_from_lowstate(...)          a NaN or out-of-range field: a fault
     safety.step(t, frame, age)        damping -> stand-up -> locomotion -> stop, or a fault: damping
     ctrl.tick(frame)                  locomotion only; its clock starts when the stand-up ends
     safety.guard(cmd, frame)          q, dq, torque clamped to the robot's limits
-    lowcmd_from_command(cmd, mm)      mode 1 on every motor, mode_machine from the state, the CRC set
+    lowcmd_bytes(cmd, mm)             mode 1 on every motor, mode_machine from the state, the CRC set
     write rt/lowcmd
+
+The states are read and the commands written as their CDR bytes (:mod:`gaitshift.dds.cdr`: the same
+bytes as cyclonedds's (de)serialization, in a tenth of its time).
 
 Pacing: real time by default (tick ``k`` due at ``t0 + k period`` on the wall clock, the machine's and the
 controller's clock the wall clock; a tick that ends over a period after it was due is a missed deadline,
@@ -33,10 +36,11 @@ import numpy as np
 from gaitshift.control.controller import Controller
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.control.replanner import REPLAN_MODES
-from gaitshift.dds.convert import frame_from_lowstate, lowcmd_from_command
-from gaitshift.dds.crc import lowstate_crc
+from gaitshift.dds.cdr import StateBytes
+from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes
 from gaitshift.dds.g1 import check_motor_order
 from gaitshift.dds.gravity import standing_torques
+from gaitshift.dds.messages import LowState_
 from gaitshift.dds.safety import Limits, Safety, SafetySettings, check_settings, standup_gains
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.ticklog import TickLog
@@ -171,7 +175,7 @@ class _Brain:
         self.period = ctrl.period
         self.safety = _safety(ctrl, opts)
         self.log = TickLog()
-        self.state: Any = None  # the newest LowState_ with a good CRC
+        self.state: Any = None  # the newest LowState_ (StateBytes) with a good CRC
         self.arrival = -math.inf  # perf_counter s when a state of a new tick last arrived
         self.handled = -1  # LowState_.tick of the last state ticked on
         self.written = time.perf_counter()  # when the last command was written
@@ -180,11 +184,16 @@ class _Brain:
         self.silent = False  # lockstep: the robot stopped answering (a stale state)
 
     def take(self) -> bool:
-        """Take every state received; keep the newest with a good CRC. True when it is of a new tick."""
+        """Take every state received; keep the newest with a good CRC (a message of another encapsulation is
+        dropped as well). True when it is of a new tick."""
         new = False
-        for msg in self.endpoint.take():
+        for data in self.endpoint.take_bytes():
             self.received += 1
-            if msg.crc != lowstate_crc(msg):  # the other checks wait for the conversion of the one ticked on
+            try:
+                msg: StateBytes | None = StateBytes(data)
+            except InputError:
+                msg = None
+            if msg is None or msg.crc != msg.expected_crc():  # the other checks wait for the one ticked on
                 self.dropped += 1
                 continue
             self.state = msg
@@ -228,7 +237,7 @@ class _Brain:
             return None, f"state out of range: {e}"
 
     def write(self, cmd: MotorCommand) -> None:
-        self.endpoint.writer.write(lowcmd_from_command(cmd, self.state.mode_machine))
+        self.endpoint.write_bytes(lowcmd_bytes(cmd, self.state.mode_machine))
         self.written, self.last = time.perf_counter(), cmd
 
     def control(self, t: float, age: float) -> int:
@@ -336,7 +345,7 @@ def run_brain(opts: BrainOptions, endpoint: Endpoint | None = None, ctrl: Contro
             f"no rt/lowstate from the robot within {opts.state_timeout:g} s on {where}: is the robot process running?"
         )
         return _summary(None, 1, reason, "damping", time.perf_counter() - start)
-    if opts.real_robot and not passive_at_start(brain.state, brain.n):
+    if opts.real_robot and not passive_at_start(LowState_.deserialize(brain.state.data), brain.n):
         reason = "refused: the robot is not damping or zero-torque (every motor mode 0 or |tau_est| < 1 N m) at start"
         return _summary(None, 1, reason, "damping", time.perf_counter() - start)
     signals = StopSignals()

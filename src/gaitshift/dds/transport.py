@@ -11,7 +11,8 @@ leaves the machine. Domain 0 is the real robot's network.
 from dataclasses import dataclass
 from typing import Any
 
-from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
+from cyclonedds._clayer import ddspy_take, ddspy_write
+from cyclonedds.core import DDSException, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.qos import Policy, Qos
@@ -76,6 +77,22 @@ class Endpoint:
     def take(self, n: int = 64) -> list[Any]:
         """The samples received since the last take (data only: no dispose or unregister notices), oldest first."""
         return [s for s in self.reader.take(N=n) if isinstance(s, self.kind)]
+
+    def take_bytes(self, n: int = 64) -> list[bytes]:
+        """The serialized samples received since the last take (data only), oldest first: what
+        :meth:`take` deserializes, for a reader of the bytes (:mod:`gaitshift.dds.cdr`). cyclonedds's own
+        ``DataReader.take`` without its ``deserialize``."""
+        got = ddspy_take(self.reader._ref, SampleState.Any | ViewState.Any | InstanceState.Any, n)
+        if isinstance(got, int):
+            raise DDSException(got, f"taking from {self.reader!r}")
+        return [data for data, info in got if info.valid_data]
+
+    def write_bytes(self, data: bytes) -> None:
+        """Write a serialized sample (its CDR bytes with the header, a multiple of 4 bytes long): cyclonedds's
+        own ``DataWriter.write`` without its ``serialize``."""
+        ret = ddspy_write(self.writer._ref, data)
+        if ret < 0:
+            raise DDSException(ret, f"writing to {self.writer!r}")
 
     def wait(self, seconds: float) -> bool:
         """Block until a sample is there to take or ``seconds`` have passed; True when one is there."""
