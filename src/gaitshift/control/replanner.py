@@ -43,7 +43,9 @@ import struct
 import sys
 import tempfile
 import threading
+import time
 import weakref
+from collections.abc import Iterator
 from multiprocessing.connection import Connection
 from pathlib import Path
 from typing import Any
@@ -55,7 +57,16 @@ from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.errors import GaitshiftError, InputError
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["PLANNER_NICE", "REPLAN_MODES", "SWITCH_INTERVAL", "BackgroundReplan", "InlineReplan", "Update", "replanner"]
+__all__ = [
+    "PLANNER_NICE",
+    "PLANNER_POLL",
+    "REPLAN_MODES",
+    "SWITCH_INTERVAL",
+    "BackgroundReplan",
+    "InlineReplan",
+    "Update",
+    "replanner",
+]
 
 #: where the driver re-plans (module docstring)
 REPLAN_MODES = ("inline", "thread", "process")
@@ -71,6 +82,8 @@ _TICK, _COMMAND, _GOTO, _STOP, _QUIT = b"T", b"C", b"G", b"S", b"Q"
 _REQUEST, _RESULT = 57, 25
 #: the worker process's niceness: it takes the cores the ticks leave (a re-plan waits rather than a tick)
 PLANNER_NICE = 10
+#: s between two looks of the worker process for requests (it adds up to this much to a plan's lag)
+PLANNER_POLL = 0.002
 
 
 class InlineReplan:
@@ -123,6 +136,27 @@ def _record(tag: bytes, values: tuple[float, ...]) -> bytes:
     return tag + struct.pack("<7d", *values, *(0.0,) * (7 - len(values)))
 
 
+def _requests(fd: int) -> Iterator[tuple[bytes, tuple[float, ...]]]:
+    """The requests on the pipe ``fd``, in order, until its end. The pipe is polled every
+    :data:`PLANNER_POLL` s rather than waited on: a writer to a pipe someone waits on wakes it, which costs
+    the tick that writes (0.09 ms per tick measured on this machine's virtual cores)."""
+    os.set_blocking(fd, False)
+    buf = b""
+    while True:
+        try:
+            chunk = os.read(fd, _REQUEST * 1024)
+        except BlockingIOError:
+            time.sleep(PLANNER_POLL)
+            continue
+        if not chunk:
+            return
+        buf += chunk
+        whole = len(buf) - len(buf) % _REQUEST
+        for k in range(0, whole, _REQUEST):
+            yield buf[k : k + 1], struct.unpack("<7d", buf[k + 1 : k + _REQUEST])
+        buf = buf[whole:]
+
+
 def _serve_process(requests: Connection, results: Connection, payload: str, sole_length: float) -> None:
     """The worker process (niced by :data:`PLANNER_NICE`): the driver from the pickle file ``payload``;
     requests as fixed records on ``requests``; each new plan (or error) pickled into the file ``<n>.pkl`` of
@@ -132,30 +166,22 @@ def _serve_process(requests: Connection, results: Connection, payload: str, sole
     with contextlib.suppress(OSError, AttributeError):
         os.nice(PLANNER_NICE)
     worker = _Worker(pickle.loads(Path(payload).read_bytes()), sole_length)
-    fd_in, fd_out, buf, n = requests.fileno(), results.fileno(), b"", 0
-    while True:
-        chunk = os.read(fd_in, _REQUEST * 256)
-        if not chunk:
+    n = 0
+    for tag, values in _requests(requests.fileno()):
+        if tag == _QUIT:
             return
-        buf += chunk
-        whole = len(buf) - len(buf) % _REQUEST
-        for k in range(0, whole, _REQUEST):
-            tag, values = buf[k : k + 1], struct.unpack("<7d", buf[k + 1 : k + _REQUEST])
-            if tag == _QUIT:
-                return
-            try:
-                out: Any = worker.handle(tag, values)
-            except Exception as e:  # handed to the controller, raised by its next tick (one picklable type)
-                out = (GaitshiftError(str(e) if isinstance(e, GaitshiftError) else f"planner: {e!r}"), 0, worker.ticks)
-            if out is None:
-                continue
-            n += 1
-            tmp = folder / f"{n}.tmp"
-            tmp.write_bytes(pickle.dumps(out[0], protocol=pickle.HIGHEST_PROTOCOL))
-            tmp.rename(folder / f"{n}.pkl")
-            kind = b"E" if isinstance(out[0], Exception) else b"P"
-            os.write(fd_out, kind + struct.pack("<3q", n, out[1], out[2]))
-        buf = buf[whole:]
+        try:
+            out: Any = worker.handle(tag, values)
+        except Exception as e:  # handed to the controller, raised by its next tick (one picklable type)
+            out = (GaitshiftError(str(e) if isinstance(e, GaitshiftError) else f"planner: {e!r}"), 0, worker.ticks)
+        if out is None:
+            continue
+        n += 1
+        tmp = folder / f"{n}.tmp"
+        tmp.write_bytes(pickle.dumps(out[0], protocol=pickle.HIGHEST_PROTOCOL))
+        tmp.rename(folder / f"{n}.pkl")
+        kind = b"E" if isinstance(out[0], Exception) else b"P"
+        os.write(results.fileno(), kind + struct.pack("<3q", n, out[1], out[2]))
 
 
 def _serve_thread(worker: _Worker, requests: queue.SimpleQueue[Any], results: queue.SimpleQueue[Any]) -> None:
