@@ -27,7 +27,7 @@ from gaitshift.dds.crc import PACK_FORMATS, words_crc
 from gaitshift.dds.messages import LOWCMD_TYPENAME, LOWSTATE_TYPENAME, N_SLOTS
 from gaitshift.errors import InputError
 
-__all__ = ["HEADER", "LOWCMD", "LOWSTATE", "Layout", "StateBytes"]
+__all__ = ["FRAME_FIELDS", "HEADER", "LOWCMD", "LOWSTATE", "Layout", "StateBytes"]
 
 #: the encapsulation header cyclonedds writes for these types: plain CDR, little-endian, no options
 HEADER = b"\x00\x01\x00\x00"
@@ -142,6 +142,17 @@ class Layout:
 
 LOWCMD = Layout.of(LOWCMD_TYPENAME)
 LOWSTATE = Layout.of(LOWSTATE_TYPENAME)
+#: the float32 fields a SensorFrame is made of, in this order (4, 3, 3, 35, 35, 35 values), and their bytes
+FRAME_FIELDS = (
+    "imu_state.quaternion",
+    "imu_state.gyroscope",
+    "imu_state.accelerometer",
+    "motor_state.q",
+    "motor_state.dq",
+    "motor_state.tau_est",
+)
+_FRAME_INDEX = np.concatenate([LOWSTATE.fields[f][0] for f in FRAME_FIELDS])
+_FRAME_SPLIT = np.cumsum([len(LOWSTATE.fields[f][0]) for f in FRAME_FIELDS])[:-1]
 
 
 class StateBytes:
@@ -165,6 +176,11 @@ class StateBytes:
         if self._expected is None:
             self._expected = LOWSTATE.crc(self.body)
         return self._expected
+
+    def frame_floats(self) -> tuple[list[np.ndarray], bool]:
+        """The :data:`FRAME_FIELDS` as float64 arrays (one gather), and whether every value is finite."""
+        flat = self.body[_FRAME_INDEX].view("<f4").ravel().astype(float)
+        return np.split(flat, _FRAME_SPLIT), bool(np.isfinite(flat).all())
 
     def field(self, path: str) -> np.ndarray:
         """The values of ``path`` (e.g. ``motor_state.q``: (35,) float32 rad)."""

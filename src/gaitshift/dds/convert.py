@@ -196,19 +196,21 @@ def lowstate_from_frame(frame: SensorFrame, tick: int, mode_machine: int, mode_p
     return msg
 
 
-def _state_values(msg: LowState_ | StateBytes, n_motors: int) -> dict[str, Any]:
-    """The frame's fields of slots 0..n_motors-1 of ``msg`` (a message or its bytes), its CRC checked."""
+def _state_values(msg: LowState_ | StateBytes, n_motors: int) -> tuple[dict[str, Any], bool]:
+    """The frame's fields of slots 0..n_motors-1 of ``msg`` (a message or its bytes), its CRC checked; and
+    whether they are known good already (float64 arrays of float32 values, all finite)."""
     kind = "LowState_"
     if isinstance(msg, StateBytes):
         _check_crc(msg, kind, msg.expected_crc())
         n = min(max(n_motors, 0), N_SLOTS)
-        values = {k: msg.field(STATE_FIELDS[k]) for k in ("imu_quat", "imu_gyro", "imu_acc")}
-        return values | {k: msg.field(STATE_FIELDS[k])[:n] for k in ("q", "dq", "tau_est")}
+        (quat, gyro, acc, q, dq, tau), finite = msg.frame_floats()
+        fast = {"imu_quat": quat, "imu_gyro": gyro, "imu_acc": acc, "q": q[:n], "dq": dq[:n], "tau_est": tau[:n]}
+        return fast, finite
     slots = _slots(msg, kind, "motor_state")
     _check_crc(msg, kind, lowstate_crc(msg))
     rows = np.array([(m.q, m.dq, m.tau_est) for m in slots[:n_motors]], dtype=float).reshape(-1, 3)
     imu = msg.imu_state
-    return {
+    values: dict[str, Any] = {
         "imu_quat": imu.quaternion,
         "imu_gyro": imu.gyroscope,
         "imu_acc": imu.accelerometer,
@@ -216,6 +218,7 @@ def _state_values(msg: LowState_ | StateBytes, n_motors: int) -> dict[str, Any]:
         "dq": rows[:, 1],
         "tau_est": rows[:, 2],
     }
+    return values, False
 
 
 def frame_from_lowstate(msg: LowState_ | StateBytes, t: float, n_motors: int) -> SensorFrame:
@@ -223,10 +226,11 @@ def frame_from_lowstate(msg: LowState_ | StateBytes, t: float, n_motors: int) ->
     received) after its CRC is checked: the IMU (quaternion w x y z, gyro rad/s, accelerometer m/s^2), q rad,
     dq rad/s, tau_est N m; no foot force (the hg state has none)."""
     kind = "LowState_"
-    values = _state_values(msg, n_motors)
-    n = len(values["q"])
-    sizes = {"imu_quat": 4, "imu_gyro": 3, "imu_acc": 3}
-    fields = {k: _floats(f"{kind}.{STATE_FIELDS[k]}", v, sizes.get(k, n)) for k, v in values.items()}
+    fields, good = _state_values(msg, n_motors)
+    n = len(fields["q"])
+    if not good:  # each field checked, the first bad entry named (finite float32 values pass as they are)
+        sizes = {"imu_quat": 4, "imu_gyro": 3, "imu_acc": 3}
+        fields = {k: _floats(f"{kind}.{STATE_FIELDS[k]}", v, sizes.get(k, n)) for k, v in fields.items()}
     try:
         return SensorFrame.checked(n, t=t, **fields)
     except InputError as e:  # the unit quaternion, the time: named as the message's field
