@@ -27,6 +27,8 @@ __all__ = [
     "DOMAIN_MAX",
     "LOWCMD_TOPIC",
     "LOWSTATE_TOPIC",
+    "BytesReader",
+    "BytesWriter",
     "Endpoint",
     "check_domain",
     "cyclone_config",
@@ -61,6 +63,27 @@ def cyclone_config(iface: str) -> str:
     )
 
 
+class BytesReader(DataReader[Any]):
+    """cyclonedds's ``DataReader`` that also takes the samples' bytes, without its ``deserialize``."""
+
+    def take_bytes(self, n: int = 64) -> list[bytes]:
+        """Up to ``n`` serialized samples (data only: no dispose or unregister notices), oldest first."""
+        got = ddspy_take(self._ref, SampleState.Any | ViewState.Any | InstanceState.Any, n)
+        if isinstance(got, int):
+            raise DDSException(got, f"taking from {self!r}")
+        return [data for data, info in got if info.valid_data]
+
+
+class BytesWriter(DataWriter[Any]):
+    """cyclonedds's ``DataWriter`` that also writes a sample's bytes, without its ``serialize``."""
+
+    def write_bytes(self, data: bytes) -> None:
+        """Write a serialized sample (the CDR header and body, a multiple of 4 bytes long)."""
+        ret = ddspy_write(self._ref, data)
+        if ret < 0:
+            raise DDSException(ret, f"writing to {self!r}")
+
+
 @dataclass
 class Endpoint:
     """A participant with one writer and one reader of the protocol's topics (which is which depends on
@@ -80,19 +103,13 @@ class Endpoint:
 
     def take_bytes(self, n: int = 64) -> list[bytes]:
         """The serialized samples received since the last take (data only), oldest first: what
-        :meth:`take` deserializes, for a reader of the bytes (:mod:`gaitshift.dds.cdr`). cyclonedds's own
-        ``DataReader.take`` without its ``deserialize``."""
-        got = ddspy_take(self.reader._ref, SampleState.Any | ViewState.Any | InstanceState.Any, n)
-        if isinstance(got, int):
-            raise DDSException(got, f"taking from {self.reader!r}")
-        return [data for data, info in got if info.valid_data]
+        :meth:`take` deserializes, for a reader of the bytes (:mod:`gaitshift.dds.cdr`)."""
+        out: list[bytes] = self.reader.take_bytes(n)
+        return out
 
     def write_bytes(self, data: bytes) -> None:
-        """Write a serialized sample (its CDR bytes with the header, a multiple of 4 bytes long): cyclonedds's
-        own ``DataWriter.write`` without its ``serialize``."""
-        ret = ddspy_write(self.writer._ref, data)
-        if ret < 0:
-            raise DDSException(ret, f"writing to {self.writer!r}")
+        """Write a serialized sample (its CDR bytes with the header, a multiple of 4 bytes long)."""
+        self.writer.write_bytes(data)
 
     def wait(self, seconds: float) -> bool:
         """Block until a sample is there to take or ``seconds`` have passed; True when one is there."""
@@ -117,8 +134,8 @@ def open_endpoint(domain: int, iface: str, side: str) -> Endpoint:
     cmd = Topic(participant, LOWCMD_TOPIC, LowCmd_)
     state = Topic(participant, LOWSTATE_TOPIC, LowState_)
     out, inp = (state, cmd) if side == "robot" else (cmd, state)
-    writer: Any = DataWriter(participant, out, qos=Qos(Policy.History.KeepLast(WRITER_DEPTH)))
-    reader: Any = DataReader(participant, inp, qos=Qos(Policy.History.KeepLast(READER_DEPTH)))
+    writer: Any = BytesWriter(participant, out, qos=Qos(Policy.History.KeepLast(WRITER_DEPTH)))
+    reader: Any = BytesReader(participant, inp, qos=Qos(Policy.History.KeepLast(READER_DEPTH)))
     condition = ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.NotRead)
     waitset = WaitSet(participant)
     waitset.attach(condition)
