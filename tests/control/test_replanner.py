@@ -183,3 +183,36 @@ def test_the_default_is_inline_and_an_unknown_mode_is_an_input_error(tmp_path):
     assert ctrl.driver is ctrl.replan.driver and not math.isnan(ctrl.duration_bound)
     with pytest.raises(InputError, match=r"^replan = 'later' is invalid"):
         ControllerSettings(replan="later")
+
+
+@pytest.mark.parametrize("mode", ["thread", "process"])
+def test_a_live_command_reaches_the_worker_in_tick_order(tmp_path, mode):
+    """The same ticks and the same command between ticks 50 and 51: the background plans are the inline ones
+    (the command applied once); in a process a bad command raises at once (checked on the host's copy)."""
+    from gaitshift.control.locomotion_driver import LocomotionDriver
+
+    (tmp_path / "tiny.yaml").write_text(TINY)
+    ctrl = Controller.from_scenario(tmp_path / "tiny.yaml", contact="torque")
+    make = lambda: LocomotionDriver(ctrl.driver.sc, None, ctrl.period)  # noqa: E731
+    inline, bg = InlineReplan(make(), 0.2), replanner(make(), mode, 0.2)
+    plan, expected, got = inline.driver.trajectory, [], []
+    try:
+        for k in range(300):
+            if k == 51:
+                inline.driver.command(0.4, 0.0, 0.1)
+                bg.command(0.4, 0.0, 0.1)
+            t = k * ctrl.period
+            expected += inline.step(t, plan.com_pos[k], plan.com_vel[k])
+            got += bg.step(t, plan.com_pos[k], plan.com_vel[k])
+        got += wait_for(bg, len(expected) - len(got))
+    finally:
+        bg.close()
+    assert len(got) == len(expected) >= 2
+    for (traj, ps), (traj_e, ps_e) in zip(got, expected, strict=True):
+        assert_same(traj, traj_e)
+        assert_same(ps, ps_e)
+    # the command changed the plan: the last one's commanded speed reaches 0.4 m/s
+    assert np.isclose(got[-1][0].command_vel[:, 0].max(), 0.4)
+    if mode == "process":
+        with pytest.raises(InputError):
+            bg.command(float("nan"), 0.0, 0.0)

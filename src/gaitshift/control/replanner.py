@@ -15,11 +15,12 @@ the measured CoM position (3,) m and velocity (3,) m/s; at a planning instant th
   current plan. The worker computes what the inline mode computes: the plan of the state of the instant
   the re-plan was due.
 
-**Latency added**: a plan due at tick ``k`` is tracked from tick ``k + 1 + m`` instead of tick ``k``, where
-``m`` is the number of periods the worker needed (its compute time, plus its wait for a core) rounded
-up. The plans are indexed by plan time, so a plan that arrives late is tracked from the sample of the
-tick it arrives at, as it would have been inline; ticks ``k .. k + m`` track the previous plan (the
-locomotion driver's look-ahead only extends it there; a VHIP re-plan's new footholds take effect ``m + 1``
+**Latency added**: a plan due at tick ``k`` is tracked from tick ``k + m`` instead of tick ``k``, ``m >= 1``
+the ticks that started while the worker computed it (its compute time, its wait for a core, and in a
+process up to :data:`PLANNER_POLL` s before it looks at the request): :attr:`BackgroundReplan.lags` holds
+``m`` per plan. The plans are indexed by plan time, so a plan that arrives late is tracked from the sample
+of the tick it arrives at, as it would have been inline; ticks ``k .. k + m - 1`` track the previous plan
+(the locomotion driver's look-ahead only extends it there; a VHIP re-plan's new footholds take effect ``m``
 ticks later). A background run depends on the worker's timing: it is not deterministic.
 
 ``thread`` shares the interpreter lock with the ticks (``sys.setswitchinterval`` is lowered to
@@ -39,6 +40,7 @@ import os
 import pickle
 import queue
 import shutil
+import signal
 import struct
 import sys
 import tempfile
@@ -75,8 +77,9 @@ SWITCH_INTERVAL = 2e-4
 #: a new plan and its samples
 Update = tuple[Trajectory, PlanSamples]
 
-#: a request to the worker: a tag and three or seven float64 (tick: t s, com (3,) m, com_vel (3,) m/s;
-#: command: vx m/s, vy m/s, yaw_rate rad/s; goto: x m, y m, yaw rad; stop: three zeros; quit)
+#: a request to the worker: a tag and its values (tick: t s, com (3,) m, com_vel (3,) m/s; command: vx m/s,
+#: vy m/s, yaw_rate rad/s; goto: x m, y m, yaw rad; stop, quit: none), padded with zeros to seven float64
+#: on the process's pipe
 _TICK, _COMMAND, _GOTO, _STOP, _QUIT = b"T", b"C", b"G", b"S", b"Q"
 #: bytes of a request record (tag, 7 float64) and of a result record (tag "P" or "E", 3 int64)
 _REQUEST, _RESULT = 57, 25
@@ -123,9 +126,9 @@ class _Worker:
                 return None
             return (new, PlanSamples.from_trajectory(new, self.sole_length)), int(d.replans), self.ticks
         if tag == _COMMAND:
-            d.command(*v)
+            d.command(*v[:3])
         elif tag == _GOTO:
-            d.gen.goto(*v)
+            d.gen.goto(*v[:3])
         elif tag == _STOP:
             d.stop()
         return None
@@ -163,6 +166,7 @@ def _serve_process(requests: Connection, results: Connection, payload: str, sole
     the payload's folder, then the record (tag, n, re-plans, tick) on ``results``: written whole before it
     is announced, so that the tick never waits for the worker."""
     folder = Path(payload).parent
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # a ^C is the host's to handle; the worker ends with its pipe
     with contextlib.suppress(OSError, AttributeError):
         os.nice(PLANNER_NICE)
     worker = _Worker(pickle.loads(Path(payload).read_bytes()), sole_length)
@@ -274,14 +278,15 @@ class _ProcessLink:
 
 
 class _LiveGen:
-    """``driver.gen`` as a host sees it: ``goto`` checked on the local copy, then sent to the worker."""
+    """``driver.gen`` as a host sees it: ``goto`` sent to the worker (as :meth:`BackgroundReplan.command`)."""
 
     def __init__(self, owner: BackgroundReplan) -> None:
         self.owner = owner
 
     def goto(self, x: float, y: float, yaw: float = 0.0) -> None:
         """Walk to (x, y) m and turn to ``yaw`` rad (from the worker's next planning instant)."""
-        self.owner.local.gen.goto(x, y, yaw)
+        if self.owner.mode == "process":
+            self.owner.local.gen.goto(x, y, yaw)
         self.owner.send(_GOTO, (float(x), float(y), float(yaw)))
 
 
@@ -301,7 +306,7 @@ class BackgroundReplan:
     def __init__(self, driver: PlanDriver, sole_length: float, mode: str) -> None:
         if mode not in REPLAN_MODES[1:]:
             raise InputError("replan", mode, "thread or process for a background re-plan")
-        self.local: Any = driver  # the host's copy: live commands are checked on it
+        self.local: Any = driver  # the host's copy ("process"): live commands are checked on it
         self.mode = mode
         self.trajectory: Trajectory = driver.trajectory
         self.replans = int(driver.replans)
@@ -343,16 +348,20 @@ class BackgroundReplan:
             self.trajectory = updates[-1][0]
         return updates
 
-    # --- live commands of a locomotion driver: checked on the local copy, then sent -------------------
+    # --- live commands of a locomotion driver: sent in order with the ticks -------------------------------
+    # "process": first applied to the host's copy, so that a bad command raises here; "thread": the worker
+    # holds the host's very object, and its error is raised by the next tick
 
     def command(self, vx: float, vy: float, yaw_rate: float) -> None:
         """A live velocity command (m/s, m/s, rad/s) from the worker's next planning instant."""
-        self.local.command(vx, vy, yaw_rate)
+        if self.mode == "process":
+            self.local.command(vx, vy, yaw_rate)
         self.send(_COMMAND, (float(vx), float(vy), float(yaw_rate)))
 
     def stop(self) -> None:
         """A live stop request."""
-        self.local.stop()
+        if self.mode == "process":
+            self.local.stop()
         self.send(_STOP, ())
 
     def __getattr__(self, name: str) -> Any:
