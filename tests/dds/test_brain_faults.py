@@ -18,7 +18,7 @@ from gaitshift.dds.transport import open_endpoint
 
 N = 29
 #: offsets 40.. past test_robot_process.py's and test_brain_process.py's on the same pid-derived base
-BASE_DOMAIN = 100 + os.getpid() % 100 + 40
+BASE_DOMAIN = 100 + os.getpid() % 90 + 40
 SCENARIO = "planner: locomotion\nrobot: g1\ngait: walk\ncommands: [{t: 0.0, vx: 0.2}]\nstop_at: 0.5\n"
 
 

@@ -20,7 +20,7 @@ import pytest
 from gaitshift.dds.transport import open_endpoint
 
 #: offsets 30.. past test_robot_process.py's (0..29) on the same pid-derived base
-BASE_DOMAIN = 100 + os.getpid() % 100 + 30
+BASE_DOMAIN = 100 + os.getpid() % 90 + 30
 SCENARIO = """planner: locomotion
 name: tiny-walk
 robot: g1

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import typer
@@ -79,6 +80,9 @@ def dds_control_cmd(
     tilt_limit: float = typer.Option(0.6, "--tilt-limit", help="rad of pelvis tilt taken as a fall."),
     final_damping: float = typer.Option(0.2, "--final-damping", help="s of damping written before exiting."),
     contact: str = typer.Option("torque", "--contact", help="Contact detection: torque (no foot force) or force."),
+    replan: str = typer.Option(
+        "process", "--replan", help="Where the plan is re-planned: process (off the tick), thread or inline."
+    ),
     warm: bool = typer.Option(
         True, "--warm-up/--no-warm-up", help="Tick a throwaway controller first (fast 1st ticks)."
     ),
@@ -105,11 +109,13 @@ def dds_control_cmd(
         tilt=tilt_limit,
         final_damping=final_damping,
         contact=contact,
+        replan=replan,
     )
     mode = "lockstep" if lockstep else "real time"
     ctrl = build_controller(opts)
     if warm:
-        typer.echo(f"warm-up: {warm_up(build_controller(opts)):.2f} s", err=True)
+        # the throwaway re-plans inline: a worker of its own would only cost a process start
+        typer.echo(f"warm-up: {warm_up(build_controller(replace(opts, replan='inline'))):.2f} s", err=True)
     typer.echo(
         f"{scenario} on DDS domain {domain} over {iface} ({mode}): waiting up to {state_timeout:g} s for rt/lowstate",
         err=True,

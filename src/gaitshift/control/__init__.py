@@ -7,6 +7,7 @@ friction belief, its own ``MjData``), :mod:`initial_pose` (the pose the plan sta
 (whole-body inverse-dynamics QP), :mod:`schedule` (foot stance/swing state machine and force caps),
 :mod:`feedback` (capture-point step feedback and plan shift), :mod:`reference` (the tick reference from
 plan + schedule + feedback), :mod:`plan_samples` (per-sample quantities derived from the plan),
-:mod:`drivers` (re-planning streaming plans from the measured CoM), ``estimation/`` (the state
+:mod:`drivers` (re-planning streaming plans from the measured CoM), :mod:`replanner` (in the tick or in a
+background worker), ``estimation/`` (the state
 estimator). The robot model it holds is :class:`gaitshift.robots.model.RobotModel`.
 """

@@ -41,6 +41,7 @@ from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.control.initial_pose import initial_qpos
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.control.reference import tick_reference
+from gaitshift.control.replanner import replanner
 from gaitshift.control.schedule import FootScheduler
 from gaitshift.control.settings import ControllerSettings, contact_source
 from gaitshift.control.state import ControllerState, EstimateRecord, StateView
@@ -97,6 +98,9 @@ class Controller:
             plan = driver.trajectory
             if not driver.step_feedback:
                 s = replace(s, capture=replace(s.capture, gain=0.0, anchor=False))
+        # where the driver re-plans (inline, or a background worker: then the host's driver is its proxy)
+        self.replan = None if driver is None else replanner(driver, s.replan, robot.robot.sole_size[0])
+        driver = None if self.replan is None else self.replan.driver
         self.settings, self.robot, self.driver, self.traj = s, robot, driver, plan
         self.dt = robot.dt
         self.plan = PlanSamples.from_trajectory(plan, robot.robot.sole_size[0])
@@ -250,12 +254,11 @@ class Controller:
 
     def _plan_index(self, tp: float, view: StateView) -> int:
         """Plan sample at plan time ``tp``, after re-planning from the measured CoM when it is due."""
-        if self.driver is not None:
+        if self.replan is not None:
             c = view.data
-            new = self.driver.maybe_replan(tp, c.subtree_com[0].copy(), c.subtree_linvel[0])
-            if new is not None:
-                self.traj, self.plan = new, PlanSamples.from_trajectory(new, self.robot.robot.sole_size[0])
-                self.sched.retarget(new, self.plan)
+            for new, samples in self.replan.step(tp, c.subtree_com[0].copy(), c.subtree_linvel[0]):
+                self.traj, self.plan = new, samples
+                self.sched.retarget(new, samples)
         return min(round(tp / self.traj.dt), len(self.traj) - 1)
 
     def _control(self, tp: float, i: int, view: StateView) -> tuple[np.ndarray, TickReference, TickInfo]:

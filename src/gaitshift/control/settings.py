@@ -8,6 +8,7 @@ from typing import Any
 from gaitshift.control.estimation.filters import FILTERS
 from gaitshift.control.feedback import CaptureSettings
 from gaitshift.control.reference import SwingSettings
+from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.control.schedule import ScheduleSettings
 from gaitshift.control.wbc_data import Gains
 from gaitshift.errors import InputError, number_in
@@ -33,8 +34,8 @@ class ControllerSettings:
         schedule: foot state machine timing; capture: step feedback; swing: swing-path additions.
         settle: s of standing before the plan starts.
         state: what the controller acts on, "estimated" (its estimator) or "oracle" (the frame's
-            :class:`~gaitshift.control.frames.OracleState`); None: "estimated" when the robot's model
-            carries the IMU, else "oracle".
+            :class:`~gaitshift.control.frames.OracleState`); None: "estimated" (every robot has an IMU,
+            its YAML's ``sensors.imu``).
         noise, noise_scale: the sensor noise profile the estimator is tuned to, and its factor.
         estimator: base filter of the state estimator (:data:`~gaitshift.control.estimation.filters.FILTERS`).
         assumed_friction: the friction assumed at start (None: the conservative default).
@@ -43,6 +44,9 @@ class ControllerSettings:
         contact: the contact detector's sole forces: ``"force"`` (the robot's foot-force sensors) or
             ``"torque"`` (from the motors' torques, :mod:`gaitshift.control.estimation.torque_contact`);
             None: what the robot has (:func:`contact_source`).
+        replan: where a plan driver re-plans (:mod:`gaitshift.control.replanner`): ``"inline"`` (in the
+            tick: deterministic), ``"thread"`` or ``"process"`` (a background worker; the tick never waits
+            for a re-plan, the new plan is tracked from the tick that finds it done).
     """
 
     gains: Gains | None = None
@@ -57,6 +61,7 @@ class ControllerSettings:
     assumed_friction: float | None = None
     latency: int = 0
     contact: str | None = None
+    replan: str = "inline"
 
     def __post_init__(self) -> None:
         if self.state is not None and self.state not in STATE_SOURCES:
@@ -73,6 +78,8 @@ class ControllerSettings:
         lat = self.latency
         if isinstance(lat, bool) or not isinstance(lat, int) or not LATENCY_RANGE[0] <= lat <= LATENCY_RANGE[1]:
             raise InputError("latency", lat, f"an integer number of ticks in [{LATENCY_RANGE[0]}, {LATENCY_RANGE[1]}]")
+        if self.replan not in REPLAN_MODES:
+            raise InputError("replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
 
     @classmethod
     def of(cls, **given: Any) -> ControllerSettings:

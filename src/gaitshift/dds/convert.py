@@ -9,7 +9,10 @@ is slot ``i`` of the message; slots past the robot's motors are left disabled an
     msg = lowcmd_from_command(cmd, state.mode_machine)  mode 1 on every motor, the CRC set
 
 and the robot side (a simulated robot behind the protocol, :mod:`gaitshift.dds.robot`) the reverse,
-:func:`lowstate_from_frame` and :func:`command_from_lowcmd`. Values travel as float32: a round trip is
+:func:`lowstate_from_frame` and :func:`command_from_lowcmd`. The brain's fast path reads and writes the
+messages' bytes (:mod:`gaitshift.dds.cdr`): ``frame_from_lowstate`` also takes a
+:class:`~gaitshift.dds.cdr.StateBytes`, and :func:`lowcmd_bytes` is the serialized ``lowcmd_from_command``,
+with the same checks and the same errors. Values travel as float32: a round trip is
 exact to float32. A bad message (a wrong CRC, a wrong length, NaN or infinity, a negative gain, a mode
 outside 0/1, an integer outside its type) is one :class:`~gaitshift.errors.InputError` naming its field.
 """
@@ -20,11 +23,19 @@ from typing import Any
 import numpy as np
 
 from gaitshift.control.frames import MotorCommand, SensorFrame
+from gaitshift.dds.cdr import HEADER, LOWCMD, StateBytes
 from gaitshift.dds.crc import lowcmd_crc, lowstate_crc
 from gaitshift.dds.messages import N_SLOTS, IMUState_, LowCmd_, LowState_, MotorCmd_, MotorState_
 from gaitshift.errors import InputError
 
-__all__ = ["command_from_lowcmd", "frame_from_lowstate", "lowcmd_from_command", "lowstate_from_frame", "rpy"]
+__all__ = [
+    "command_from_lowcmd",
+    "frame_from_lowstate",
+    "lowcmd_bytes",
+    "lowcmd_from_command",
+    "lowstate_from_frame",
+    "rpy",
+]
 
 F32_MAX = float(np.finfo(np.float32).max)
 COMMAND_FIELDS = ("q", "dq", "tau", "kp", "kd")
@@ -73,15 +84,21 @@ def _gains_nonnegative(kind: str, kp: np.ndarray, kd: np.ndarray) -> None:
             raise InputError(f"{kind}[{i}].{name}", float(g[i]), "a gain >= 0")
 
 
-def lowcmd_from_command(cmd: MotorCommand, mode_machine: int, mode_pr: int = 0) -> LowCmd_:
-    """The ``LowCmd_`` of ``cmd`` (n motors, n <= 35): slots 0..n-1 enabled (``mode = 1``) with q rad,
-    dq rad/s, tau N m, kp N m/rad, kd N m s/rad; ``mode_machine`` copied from the robot's state; the CRC set."""
+def _command_rows(cmd: MotorCommand) -> np.ndarray:
+    """(n, 5) q, dq, tau, kp, kd of ``cmd`` (n <= 35 motors), checked: finite, within float32, gains >= 0."""
     n = int(np.size(cmd.q))
     if n > N_SLOTS:
         raise InputError("MotorCommand.q", f"{n} motors", f"at most {N_SLOTS}")
     a = {k: _floats(f"MotorCommand.{k}", getattr(cmd, k), n) for k in COMMAND_FIELDS}
     _gains_nonnegative("MotorCommand", a["kp"], a["kd"])
-    rows = _as_sent(np.stack([a[k] for k in COMMAND_FIELDS], axis=1))
+    return np.stack([a[k] for k in COMMAND_FIELDS], axis=1)
+
+
+def lowcmd_from_command(cmd: MotorCommand, mode_machine: int, mode_pr: int = 0) -> LowCmd_:
+    """The ``LowCmd_`` of ``cmd`` (n motors, n <= 35): slots 0..n-1 enabled (``mode = 1``) with q rad,
+    dq rad/s, tau N m, kp N m/rad, kd N m s/rad; ``mode_machine`` copied from the robot's state; the CRC set."""
+    rows = _as_sent(_command_rows(cmd))
+    n = len(rows)
     motors = [MotorCmd_(mode=1, q=q, dq=dq, tau=tau, kp=kp, kd=kd) for q, dq, tau, kp, kd in rows]
     motors += [MotorCmd_() for _ in range(N_SLOTS - n)]
     fields: dict[str, Any] = {
@@ -92,6 +109,21 @@ def lowcmd_from_command(cmd: MotorCommand, mode_machine: int, mode_pr: int = 0) 
     msg = LowCmd_(**fields)
     msg.crc = lowcmd_crc(msg)
     return msg
+
+
+def lowcmd_bytes(cmd: MotorCommand, mode_machine: int, mode_pr: int = 0) -> bytes:
+    """``lowcmd_from_command(cmd, mode_machine, mode_pr).serialize()``, written directly (the same bytes,
+    :mod:`gaitshift.dds.cdr`; the same checks)."""
+    rows = _command_rows(cmd)
+    n = len(rows)
+    body = np.zeros(LOWCMD.size, np.uint8)
+    LOWCMD.write(body, "mode_pr", _uint("LowCmd_.mode_pr", mode_pr, 1))
+    LOWCMD.write(body, "mode_machine", _uint("LowCmd_.mode_machine", mode_machine, 8))
+    LOWCMD.write(body, "motor_cmd.mode", np.ones(n))
+    for j, k in enumerate(COMMAND_FIELDS):
+        LOWCMD.write(body, f"motor_cmd.{k}", rows[:, j])
+    LOWCMD.write(body, "crc", LOWCMD.crc(body))
+    return HEADER + body.tobytes()
 
 
 def _check_crc(msg: Any, kind: str, expected: int) -> None:
@@ -164,17 +196,21 @@ def lowstate_from_frame(frame: SensorFrame, tick: int, mode_machine: int, mode_p
     return msg
 
 
-def frame_from_lowstate(msg: LowState_, t: float, n_motors: int) -> SensorFrame:
-    """The :class:`SensorFrame` at time ``t`` s of slots 0..n_motors-1 of ``msg`` after its CRC is checked:
-    the IMU (quaternion w x y z, gyro rad/s, accelerometer m/s^2), q rad, dq rad/s, tau_est N m; no foot
-    force (the hg state has none)."""
+def _state_values(msg: LowState_ | StateBytes, n_motors: int) -> tuple[dict[str, Any], bool]:
+    """The frame's fields of slots 0..n_motors-1 of ``msg`` (a message or its bytes), its CRC checked; and
+    whether they are known good already (float64 arrays of float32 values, all finite)."""
     kind = "LowState_"
+    if isinstance(msg, StateBytes):
+        _check_crc(msg, kind, msg.expected_crc())
+        n = min(max(n_motors, 0), N_SLOTS)
+        (quat, gyro, acc, q, dq, tau), finite = msg.frame_floats()
+        fast = {"imu_quat": quat, "imu_gyro": gyro, "imu_acc": acc, "q": q[:n], "dq": dq[:n], "tau_est": tau[:n]}
+        return fast, finite
     slots = _slots(msg, kind, "motor_state")
     _check_crc(msg, kind, lowstate_crc(msg))
-    used = slots[:n_motors]
-    rows = np.array([(m.q, m.dq, m.tau_est) for m in used], dtype=float).reshape(-1, 3)
+    rows = np.array([(m.q, m.dq, m.tau_est) for m in slots[:n_motors]], dtype=float).reshape(-1, 3)
     imu = msg.imu_state
-    values = {
+    values: dict[str, Any] = {
         "imu_quat": imu.quaternion,
         "imu_gyro": imu.gyroscope,
         "imu_acc": imu.accelerometer,
@@ -182,10 +218,21 @@ def frame_from_lowstate(msg: LowState_, t: float, n_motors: int) -> SensorFrame:
         "dq": rows[:, 1],
         "tau_est": rows[:, 2],
     }
-    sizes = {"imu_quat": 4, "imu_gyro": 3, "imu_acc": 3}
-    fields = {k: _floats(f"{kind}.{STATE_FIELDS[k]}", v, sizes.get(k, len(used))) for k, v in values.items()}
+    return values, False
+
+
+def frame_from_lowstate(msg: LowState_ | StateBytes, t: float, n_motors: int) -> SensorFrame:
+    """The :class:`SensorFrame` at time ``t`` s of slots 0..n_motors-1 of ``msg`` (a message, or its bytes as
+    received) after its CRC is checked: the IMU (quaternion w x y z, gyro rad/s, accelerometer m/s^2), q rad,
+    dq rad/s, tau_est N m; no foot force (the hg state has none)."""
+    kind = "LowState_"
+    fields, good = _state_values(msg, n_motors)
+    n = len(fields["q"])
+    if not good:  # each field checked, the first bad entry named (finite float32 values pass as they are)
+        sizes = {"imu_quat": 4, "imu_gyro": 3, "imu_acc": 3}
+        fields = {k: _floats(f"{kind}.{STATE_FIELDS[k]}", v, sizes.get(k, n)) for k, v in fields.items()}
     try:
-        return SensorFrame.checked(len(used), t=t, **fields)
+        return SensorFrame.checked(n, t=t, **fields)
     except InputError as e:  # the unit quaternion, the time: named as the message's field
         field = STATE_FIELDS.get(e.field.removeprefix("SensorFrame."), e.field.removeprefix("SensorFrame."))
         raise InputError(f"{kind}.{field}" if field != "t" else "t", e.value, e.allowed) from None

@@ -11,7 +11,8 @@ leaves the machine. Domain 0 is the real robot's network.
 from dataclasses import dataclass
 from typing import Any
 
-from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
+from cyclonedds._clayer import ddspy_take, ddspy_write
+from cyclonedds.core import DDSException, InstanceState, ReadCondition, SampleState, ViewState, WaitSet
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.qos import Policy, Qos
@@ -26,6 +27,8 @@ __all__ = [
     "DOMAIN_MAX",
     "LOWCMD_TOPIC",
     "LOWSTATE_TOPIC",
+    "BytesReader",
+    "BytesWriter",
     "Endpoint",
     "check_domain",
     "cyclone_config",
@@ -60,6 +63,27 @@ def cyclone_config(iface: str) -> str:
     )
 
 
+class BytesReader(DataReader[Any]):
+    """cyclonedds's ``DataReader`` that also takes the samples' bytes, without its ``deserialize``."""
+
+    def take_bytes(self, n: int = 64) -> list[bytes]:
+        """Up to ``n`` serialized samples (data only: no dispose or unregister notices), oldest first."""
+        got = ddspy_take(self._ref, SampleState.Any | ViewState.Any | InstanceState.Any, n)
+        if isinstance(got, int):
+            raise DDSException(got, f"taking from {self!r}")
+        return [data for data, info in got if info.valid_data]
+
+
+class BytesWriter(DataWriter[Any]):
+    """cyclonedds's ``DataWriter`` that also writes a sample's bytes, without its ``serialize``."""
+
+    def write_bytes(self, data: bytes) -> None:
+        """Write a serialized sample (the CDR header and body, a multiple of 4 bytes long)."""
+        ret = ddspy_write(self._ref, data)
+        if ret < 0:
+            raise DDSException(ret, f"writing to {self!r}")
+
+
 @dataclass
 class Endpoint:
     """A participant with one writer and one reader of the protocol's topics (which is which depends on
@@ -76,6 +100,16 @@ class Endpoint:
     def take(self, n: int = 64) -> list[Any]:
         """The samples received since the last take (data only: no dispose or unregister notices), oldest first."""
         return [s for s in self.reader.take(N=n) if isinstance(s, self.kind)]
+
+    def take_bytes(self, n: int = 64) -> list[bytes]:
+        """The serialized samples received since the last take (data only), oldest first: what
+        :meth:`take` deserializes, for a reader of the bytes (:mod:`gaitshift.dds.cdr`)."""
+        out: list[bytes] = self.reader.take_bytes(n)
+        return out
+
+    def write_bytes(self, data: bytes) -> None:
+        """Write a serialized sample (its CDR bytes with the header, a multiple of 4 bytes long)."""
+        self.writer.write_bytes(data)
 
     def wait(self, seconds: float) -> bool:
         """Block until a sample is there to take or ``seconds`` have passed; True when one is there."""
@@ -100,8 +134,8 @@ def open_endpoint(domain: int, iface: str, side: str) -> Endpoint:
     cmd = Topic(participant, LOWCMD_TOPIC, LowCmd_)
     state = Topic(participant, LOWSTATE_TOPIC, LowState_)
     out, inp = (state, cmd) if side == "robot" else (cmd, state)
-    writer: Any = DataWriter(participant, out, qos=Qos(Policy.History.KeepLast(WRITER_DEPTH)))
-    reader: Any = DataReader(participant, inp, qos=Qos(Policy.History.KeepLast(READER_DEPTH)))
+    writer: Any = BytesWriter(participant, out, qos=Qos(Policy.History.KeepLast(WRITER_DEPTH)))
+    reader: Any = BytesReader(participant, inp, qos=Qos(Policy.History.KeepLast(READER_DEPTH)))
     condition = ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.NotRead)
     waitset = WaitSet(participant)
     waitset.attach(condition)
