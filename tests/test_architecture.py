@@ -51,6 +51,7 @@ LAYERS: dict[str, int] = {
     "bench": 10,
     "export": 10,
     "campaign": 10,
+    "tuning": 10,  # a campaign of a robot's gait candidates
     "cli": 11,
 }
 

@@ -18,6 +18,7 @@ from gaitshift.robots import load_robot
 from gaitshift.robots.model import standing_qpos
 from gaitshift.sim.plant import FLOOR, build_plant
 from mujoco_checks import forward_kinematics, tilt
+from robot_yamls import APOLLO
 
 
 @pytest.fixture(scope="module")
@@ -96,18 +97,6 @@ def test_leg_flexion_keeps_the_soles_flat_on_the_floor_and_the_arms_at_the_yaml_
     _, soles, rot = forward_kinematics(m, q[None], robot.sole_bodies, robot.sole_offsets)
     np.testing.assert_allclose(soles[0, :, 2], 0.0, atol=1e-12)
     assert np.all(tilt(rot) < 1e-9)
-
-
-APOLLO = """name: apollo
-mjcf: asset:mujoco/playground/assets/mujoco_menagerie/apptronik_apollo/apptronik_apollo.xml
-soles: {left: {body: l_foot_link}, right: {body: r_foot_link}}
-sole_orientation: geoms
-torso: torso_link
-hips: [l_hip_fe, r_hip_fe]
-knees: [l_knee_fe, r_knee_fe]
-leg_joints: [l_hip_ie, l_hip_aa, l_hip_fe, l_knee_fe, l_ankle_ie, l_ankle_pd,
-             r_hip_ie, r_hip_aa, r_hip_fe, r_knee_fe, r_ankle_ie, r_ankle_pd]
-"""
 
 
 def test_feet_of_a_model_with_frictionless_collision_free_defaults_touch_the_floor_with_friction(tmp_path):

@@ -149,3 +149,35 @@ def robot_check_cmd(
     typer.echo(f"{cfg.name}: {problems} problem{'s' if problems != 1 else ''}")
     if problems:
         raise typer.Exit(1)
+
+
+@robot_app.command("tune")
+def robot_tune_cmd(
+    robot: Path = typer.Argument(..., help="Robot YAML to tune."),
+    out: Path = typer.Option(..., "--out", help="The tuned robot YAML (.yaml)."),
+    report: Path | None = typer.Option(None, "--report", help="Markdown report (.md)."),
+    work: Path = typer.Option(Path("tune-work"), "--work", help="Folder of the candidates and their runs."),
+    seed: list[int] = typer.Option([0], "--seed", help="Seed of the runs (repeatable)."),
+    workers: int | None = typer.Option(None, "--workers", help="Dask workers (default: every core)."),
+) -> None:
+    """Find a new robot's gait keys: derive them from the model, then run a small campaign of candidates
+    (the G1's walk, run, walk-run-walk and tour scaled to the robot, on the estimate) and keep the one
+    that falls least and changes least (docs/robots.md, "Tune")."""
+    from gaitshift.common.atomic import atomic_path
+    from gaitshift.tuning.report import report as report_text
+    from gaitshift.tuning.search import check_seeds, robot_yaml, tune
+
+    out_file(out, "--out", (".yaml", ".yml"))
+    if report is not None:
+        out_file(report, "--report", (".md",))
+    result = tune(robot, work, check_seeds(seed), workers)
+    with atomic_path(out) as tmp:
+        tmp.write_text(
+            f"# tuned by gaitshift robot tune from {robot}\n"
+            + robot_yaml(robot.read_text(), result.best.keys(), robot.resolve().parent)
+        )
+    if report is not None:
+        with atomic_path(report) as tmp:
+            tmp.write_text(report_text(result, str(robot)))
+    falls = sum(bool(r["fell"]) for r in result.rows if Path(r["scenario"]).parent.name == result.best.name)
+    typer.echo(f"tuned {robot} -> {out}: gait {result.best.keys()}, {falls} fall(s) in its runs")

@@ -34,7 +34,7 @@ from gaitshift.robots import mjcf as _mj
 from gaitshift.robots.dimensions import com_height, foot_separation, leg_length
 from gaitshift.robots.schema import RobotYaml
 from gaitshift.robots.sensors import ImuMount, RobotSensors, robot_sensors
-from gaitshift.robots.soles import SoleGeometry, sole_geometry
+from gaitshift.robots.soles import SoleGeometry, common_size, sole_geometry
 from gaitshift.robots.standing import computed_standing_pose, guess_qpos
 from gaitshift.scenario.facts import RobotFacts
 from gaitshift.scenario.fields import input_error
@@ -83,6 +83,7 @@ class RobotConfig:
         step_time_scale: factor on the support times and strides of scaled scenarios (YAML ``gait``).
         max_stride: cap on the stride of scaled scenarios, m; None: lambda x the scenario's (``gait``).
         swing_height: swing-foot clearance of scaled scenarios, m; None: lambda x the scenario's (``gait``).
+        max_yaw_rate: cap on the turn rate of scaled live-command scenarios, rad/s; None: none (``gait``).
         source: the built-in name or YAML path it was loaded from.
     """
 
@@ -121,6 +122,7 @@ class RobotConfig:
     step_time_scale: float = 1.0
     max_stride: float | None = None
     swing_height: float | None = None
+    max_yaw_rate: float | None = None
     source: str = ""
     standing_computed: bool = field(default=False)
 
@@ -321,7 +323,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         sole_geometry(raw_model, b, q, s.pos)
         for b, q, s in zip(bodies, quats, (cfg.soles.left, cfg.soles.right), strict=True)
     )
-    sole_quats = tuple(_mat2quat(s.rotation) for s in soles)
+    sole_quats = tuple(s.quat for s in soles)
     offsets = tuple(tuple(float(x) for x in s.centre) for s in soles)
     sole_bodies = (cfg.soles.left.body, cfg.soles.right.body)
     model = _compile(mjcf, sole_bodies, tuple(zip(offsets, sole_quats, strict=True)), False, None)
@@ -352,7 +354,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         sole_offsets=offsets,  # type: ignore[arg-type]
         sole_quats=sole_quats,  # type: ignore[arg-type]
         soles=soles,  # type: ignore[arg-type]
-        sole_size=cfg.sole_size if cfg.sole_size is not None else _mean_size(soles),
+        sole_size=cfg.sole_size if cfg.sole_size is not None else common_size(soles),
         torso=cfg.torso,
         base=model.body(model.jnt_bodyid[0]).name,
         hips=cfg.hips,
@@ -380,6 +382,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         step_time_scale=cfg.gait.step_time_scale,
         max_stride=cfg.gait.max_stride,
         swing_height=cfg.gait.swing_height,
+        max_yaw_rate=cfg.gait.max_yaw_rate,
         source=source,
         standing_computed=computed,
     )
@@ -390,21 +393,6 @@ def _sole_quats(cfg: RobotYaml) -> tuple[Any, Any]:
     if isinstance(o, str):
         return o, o
     return o.left, o.right
-
-
-def _mat2quat(R: np.ndarray) -> tuple[float, ...]:
-    import mujoco
-
-    q = np.empty(4)
-    mujoco.mju_mat2Quat(q, np.ascontiguousarray(R).ravel())
-    return tuple(float(x) for x in q)
-
-
-def _mean_size(soles: tuple[SoleGeometry, ...]) -> tuple[float, float]:
-    return (
-        round(min(s.size[0] for s in soles), 4),
-        round(min(s.size[1] for s in soles), 4),
-    )
 
 
 @functools.lru_cache(maxsize=8)

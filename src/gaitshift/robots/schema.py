@@ -45,7 +45,9 @@
                        ``max_stride`` (m, optional) caps the stride of scaled scenarios (TV-LIPM
                        ``profile.max_stride``, VHIP ``limits.max_stride``; explicit footholds are kept);
                        ``swing_height`` (m, optional) the swing-foot clearance instead of lambda x the
-                       scenario's (TV-LIPM ``swing_height``, VHIP ``swing_apex``)
+                       scenario's (TV-LIPM ``swing_height``, VHIP ``swing_apex``);
+                       ``max_yaw_rate`` (rad/s, optional) caps the turn rate of scaled live-command
+                       (locomotion) scenarios (``limits.max_yaw_rate``)
 =====================  ========================================================================
 """
 
@@ -95,6 +97,7 @@ class Gait(StrictModel):
     step_time_scale: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 1.0
     max_stride: Length | None = None
     swing_height: Length | None = None
+    max_yaw_rate: Annotated[float, Strict(), Field(gt=0, le=20, allow_inf_nan=False)] | None = None
 
 
 class Imu(StrictModel):

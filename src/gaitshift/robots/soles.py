@@ -47,6 +47,20 @@ class SoleGeometry:
     points: np.ndarray
     size: tuple[float, float]
 
+    @property
+    def quat(self) -> tuple[float, float, float, float]:
+        """The sole frame in the body frame as a quaternion (w, x, y, z)."""
+        import mujoco
+
+        q = np.empty(4)
+        mujoco.mju_mat2Quat(q, np.ascontiguousarray(self.rotation, dtype=float).ravel())
+        return (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
+
+
+def common_size(soles: tuple[SoleGeometry, ...]) -> tuple[float, float]:
+    """The (length, width) of the sole rectangle every sole holds: the least of each, m (0.1 mm)."""
+    return round(min(s.size[0] for s in soles), 4), round(min(s.size[1] for s in soles), 4)
+
 
 def contact_geoms(model: Any, body: int) -> tuple[tuple[int, ...], bool]:
     """Contact geoms of ``body`` and whether their collisions must be switched on (see module docstring)."""

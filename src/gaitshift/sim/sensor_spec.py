@@ -33,13 +33,11 @@ def add_sole_touch_sensors(spec: Any, robot: Any) -> None:
         pts = np.asarray(sole.points, float)
         lo = np.append(pts[:, :2].min(axis=0) - ZONE_MARGIN, -ZONE_MARGIN)
         hi = np.append(pts[:, :2].max(axis=0) + ZONE_MARGIN, ZONE_HEIGHT)
-        quat = np.empty(4)
-        mujoco.mju_mat2Quat(quat, np.ascontiguousarray(sole.rotation).ravel())
         site = spec.body(body_name).add_site(
             name=name.removesuffix("_touch") + "_zone",
             type=mujoco.mjtGeom.mjGEOM_BOX,
             pos=sole.centre + sole.rotation @ ((lo + hi) / 2),
-            quat=quat,
+            quat=sole.quat,
             size=(hi - lo) / 2,
             group=5,
         )

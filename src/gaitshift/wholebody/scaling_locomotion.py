@@ -18,7 +18,8 @@ CoM height the scenario resolves to on its own robot, h': the new robot's):
 Then the robot YAML's ``gait`` choices (rule 5), on the numbers the scaled scenario resolves to on the
 new robot (so they apply to defaulted keys too, which are then written): ``flight_scale`` x the flight,
 ``step_width``, ``step_time_scale`` x the walking and running single supports, the double support and
-the stride limit, ``max_stride`` caps the stride limit, ``swing_height``.
+the stride limit, ``max_stride`` caps the stride limit, ``swing_height``, ``max_yaw_rate`` caps the
+turn rate.
 """
 
 from __future__ import annotations
@@ -105,3 +106,5 @@ def _apply_gait(data: dict[str, Any], robot: RobotConfig) -> None:
         limits["max_stride"] = min(limits.get("max_stride") or p.limits.max_stride, robot.max_stride)
     if robot.swing_height is not None:
         data["swing_height"] = robot.swing_height
+    if robot.max_yaw_rate is not None:
+        limits["max_yaw_rate"] = min(limits.get("max_yaw_rate") or p.limits.max_yaw_rate, robot.max_yaw_rate)
