@@ -65,13 +65,17 @@ def kinematic_model(robot: Any) -> Any:
     """The robot's model (:class:`gaitshift.robots.RobotConfig`) without geoms and meshes, for the
     estimator's private kinematics: ``mj_kinematics`` then poses bodies and sites only (a third less
     work on the G1's 71 geoms). Falls back to ``robot.model()`` when removing the geoms changes any of
-    :data:`KINEMATIC_FIELDS` (e.g. masses inferred from the geoms)."""
+    :data:`KINEMATIC_FIELDS` (e.g. masses inferred from the geoms), or when it does not compile without
+    them (bodies whose only mass is their geoms')."""
     model = robot.model()
     spec = mujoco.MjSpec.from_file(str(robot.mjcf))
     robot.add_sites(spec)
     for item in [*spec.geoms, *spec.meshes]:
         spec.delete(item)
-    bare = spec.compile()
+    try:
+        bare = spec.compile()
+    except ValueError:  # the bodies' masses came from their geoms (a model without inertial elements)
+        return model
     same = all(np.array_equal(getattr(model, f), getattr(bare, f)) for f in KINEMATIC_FIELDS)
     return bare if same and bare.nsite == model.nsite else model
 
