@@ -47,6 +47,8 @@ LOOPBACK = ("lo", "lo0", "127.0.0.1")
 #: the reader keeps this many samples between two takes (the default keeps one: the newest), so that every
 #: message received is seen and counted; the writer keeps a few for retransmission
 READER_DEPTH, WRITER_DEPTH = 64, 8
+#: the domains this process configured, kept alive with it
+_DOMAINS: dict[int, Any] = {}
 
 
 def cyclone_config(iface: str) -> str:
@@ -137,11 +139,13 @@ class Participant:
 
 
 def open_participant(domain: int, iface: str) -> Participant:
-    """A participant on DDS ``domain`` over ``iface`` (:func:`cyclone_config`)."""
+    """A participant on DDS ``domain`` over ``iface`` (:func:`cyclone_config`; the first participant of the
+    process on ``domain`` sets its interface)."""
     if not iface or any(c in iface for c in "<>\"'&"):
         raise InputError("--iface", iface, "a network interface name, e.g. lo or eth0")
-    dom = Domain(check_domain(domain), cyclone_config(iface))
-    return Participant(DomainParticipant(domain), dom)
+    if check_domain(domain) not in _DOMAINS:  # a process configures a domain once (a second Domain is refused)
+        _DOMAINS[domain] = Domain(domain, cyclone_config(iface))
+    return Participant(DomainParticipant(domain), _DOMAINS[domain])
 
 
 def open_endpoint(domain: int, iface: str, side: str) -> Endpoint:
