@@ -152,8 +152,8 @@ def _live_commands(ctrl: Controller, scenario: str) -> None:
 
     lim = live_limits(ctrl, scenario)
     typer.echo(
-        f"live commands from rt/gaitshift/cmd_vel: vx [{-lim.backward:g}, {lim.forward:g}] m/s, "
-        f"|vy| <= {lim.sideways:g} m/s, |yaw_rate| <= {lim.yaw_rate:g} rad/s",
+        f"live commands from rt/gaitshift/cmd_vel: vx [{-lim.backward:.3g}, {lim.forward:.3g}] m/s, "
+        f"|vy| <= {lim.sideways:.3g} m/s, |yaw_rate| <= {lim.yaw_rate:.3g} rad/s",
         err=True,
     )
 

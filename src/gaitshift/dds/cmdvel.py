@@ -70,7 +70,7 @@ def check_command(msg: Any, limits: CommandLimits) -> str:
     for name, (lo, hi, unit) in limits.bounds().items():
         v = float(getattr(msg, name))
         if not (math.isfinite(v) and lo <= v <= hi):
-            return f"VelocityCommand_.{name} = {v!r} is invalid: allowed a number in [{lo:g}, {hi:g}] {unit}"
+            return f"VelocityCommand_.{name} = {v!r} is invalid: allowed a number in [{lo:.3g}, {hi:.3g}] {unit}"
     return ""
 
 
