@@ -182,6 +182,9 @@ def test_no_robot_is_one_line_and_exit_1(tmp_path):
         (["--tilt-limit", "3"], "--tilt-limit"),
         (["--standup-time", "0"], "--standup-time"),
         (["--state-timeout", "-1"], "--state-timeout"),
+        (["--hold", "-0.1"], "--hold"),
+        (["--diag-every", "-1"], "--diag-every"),
+        (["--cmd-topic"], "--cmd-topic"),  # g1-walk's plan is fixed: no live command
     ],
 )
 def test_a_bad_flag_or_domain_0_without_the_real_robot_flag_is_one_line_and_exit_2(cli, flags, name):

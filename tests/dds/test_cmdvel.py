@@ -2,7 +2,8 @@
 a stop flag other than 0/1, is refused with one line naming its field; over DDS (loopback, a fresh domain)
 the brain's reader keeps the newest valid command, drops and counts the bad ones (one line each, the first
 five), hands a command or a stop to the controller only when asked (a locomotion tick), and refuses what
-comes after a stop; a plan that takes no live command is refused for --cmd-topic."""
+comes after a stop; a plan that takes no live command is refused for --cmd-topic. ``gaitshift dds cmd``
+sends a command a reader receives, and says so in one line when nobody reads."""
 
 import math
 import os
@@ -17,8 +18,8 @@ from gaitshift.dds.transport import open_endpoint, open_participant, topic_write
 from gaitshift.errors import InputError
 
 LIMITS = CommandLimits(forward=1.0, backward=0.5, sideways=0.3, yaw_rate=0.8)
-#: offset 35 on test_robot_process.py's pid-derived base (test_brain_process.py: 30-32, test_brain_steered.py:
-#: 36, test_brain_faults.py: 40-41): within DDS's 232
+#: offsets 35, 37, 38 on test_robot_process.py's pid-derived base (test_brain_process.py: 30-32,
+#: test_brain_steered.py: 36, test_brain_faults.py: 40-41): within DDS's 232
 BASE_DOMAIN = 100 + os.getpid() % 90 + 35
 
 
@@ -103,3 +104,20 @@ def test_over_dds_bad_commands_are_dropped_and_counted_the_newest_valid_one_appl
     inp.apply(ctrl)
     assert ctrl.calls[-1] == ("stop",) and inp.stopped and inp.dropped == 7
     assert inp.last_error.startswith("VelocityCommand_ after a stop")
+
+
+def test_the_cmd_command_sends_one_command_refuses_bad_values_and_says_when_no_brain_listens(cli):
+    """``gaitshift dds cmd``: a bad value is one line naming the flag, exit 2; with nobody reading, one line
+    and exit 1; with a reader, the command arrives (written --repeat times) and exit 0."""
+    code, _, err = cli(["dds", "cmd", "--vx", "nan"])
+    assert code == 2 and err.startswith("gaitshift: error: --vx = nan") and err.count("\n") == 1
+    domain = BASE_DOMAIN + 2  # 37: free on the shared base (see BASE_DOMAIN)
+    code, _, err = cli(["dds", "cmd", "--vx", "0.2", "--domain", str(domain), "--wait", "0.2"])
+    assert code == 1 and err.startswith("gaitshift: no reader of rt/gaitshift/cmd_vel") and err.count("\n") == 1
+    domain = BASE_DOMAIN + 3
+    inp = CommandInput(open_endpoint(domain, "lo", "controller"), LIMITS, print)
+    code, _, err = cli(["dds", "cmd", "--vx", "0.5", "--yaw-rate", "-0.3", "--domain", str(domain), "--repeat", "2"])
+    take_all(inp, 2)
+    assert code == 0 and err.startswith("sent vx 0.5 m/s, vy 0 m/s, yaw_rate -0.3 rad/s on rt/gaitshift/cmd_vel")
+    assert (inp.received, inp.accepted) == (2, 2)
+    assert (inp.pending.vx, inp.pending.yaw_rate, inp.pending.stop) == (0.5, -0.3, 0)

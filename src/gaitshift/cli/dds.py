@@ -131,6 +131,8 @@ def dds_control_cmd(
         diag_every=diag_every,
     )
     mode = "lockstep" if lockstep else "real time"
+    if cmd_topic:
+        _live_scenario(scenario)  # refused before the controller is built
     ctrl = build_controller(opts)
     if cmd_topic:
         _live_commands(ctrl, scenario)  # not a live plan: one line, exit 2, before any DDS traffic
@@ -144,6 +146,15 @@ def dds_control_cmd(
     s = run_brain(opts, ctrl=ctrl, say=lambda line: typer.echo(line, err=True))
     _report(s, as_json)
     raise typer.Exit(s.exit_code)
+
+
+def _live_scenario(scenario: str) -> None:
+    """:class:`InputError` ``--cmd-topic`` unless ``scenario`` plans with ``planner: locomotion`` (live commands)."""
+    from gaitshift.errors import InputError
+    from gaitshift.scenario import load_scenario
+
+    if load_scenario(scenario).planner != "locomotion":
+        raise InputError("--cmd-topic", scenario, "a live-command scenario (planner: locomotion)")
 
 
 def _live_commands(ctrl: Controller, scenario: str) -> None:
