@@ -3,8 +3,10 @@ a stop flag other than 0/1, is refused with one line naming its field; over DDS 
 the brain's reader keeps the newest valid command, drops and counts the bad ones (one line each, the first
 five), hands a command or a stop to the controller only when asked (a locomotion tick), and refuses what
 comes after a stop; a plan that takes no live command is refused for --cmd-topic. ``gaitshift dds cmd``
-sends a command a reader receives, and says so in one line when nobody reads."""
+sends a command a reader receives, and says so in one line when nobody reads; its --teleop turns the keys
+of ``gaitshift teleop`` into commands, and without a terminal is one line, exit 2."""
 
+import io
 import math
 import os
 import time
@@ -12,7 +14,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from gaitshift.dds.cmdvel import MAX_LINES, CommandInput, CommandLimits, check_command, live_limits, publish
+from gaitshift.dds.cmdvel import MAX_LINES, CommandInput, CommandLimits, KeySteer, check_command, live_limits, publish
 from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
 from gaitshift.dds.transport import open_endpoint, open_participant, topic_writer
 from gaitshift.errors import InputError
@@ -121,3 +123,28 @@ def test_the_cmd_command_sends_one_command_refuses_bad_values_and_says_when_no_b
     assert code == 0 and err.startswith("sent vx 0.5 m/s, vy 0 m/s, yaw_rate -0.3 rad/s on rt/gaitshift/cmd_vel")
     assert (inp.received, inp.accepted) == (2, 2)
     assert (inp.pending.vx, inp.pending.yaw_rate, inp.pending.stop) == (0.5, -0.3, 0)
+
+
+def test_keys_steer_by_the_teleop_steps_space_stands_and_q_stops():
+    """The keys of ``gaitshift teleop``: 0.1 m/s, 0.05 m/s, 0.2 rad/s a press; space zero; q the stop."""
+    keys = KeySteer()
+    msgs = [keys.press(a) for a in ("up", "up", "left", "turn-right", "bogus", "stop", "down", "quit")]
+    assert msgs[4] is None
+    got = [(m.vx, m.vy, m.yaw_rate, m.stop) for m in msgs if m is not None]
+    assert got == [
+        (0.1, 0.0, 0.0, 0),
+        (0.2, 0.0, 0.0, 0),
+        (0.2, 0.05, 0.0, 0),
+        (0.2, 0.05, -0.2, 0),
+        (0.0, 0.0, 0.0, 0),
+        (-0.1, 0.0, 0.0, 0),
+        (-0.1, 0.0, 0.0, 1),
+    ]
+    assert [m.seq for m in msgs if m is not None] == list(range(1, 8))
+    assert all(check_command(m, LIMITS) == "" for m in msgs if m is not None)
+
+
+def test_teleop_without_a_terminal_is_one_line_and_exit_2(cli, monkeypatch):
+    monkeypatch.setattr("sys.stdin", io.StringIO("w"))  # not a terminal, even under pytest -s
+    code, _, err = cli(["dds", "cmd", "--teleop"])
+    assert code == 2 and err.startswith("gaitshift: error: --teleop = 'stdin'") and err.count("\n") == 1

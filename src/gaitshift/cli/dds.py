@@ -196,9 +196,12 @@ def dds_cmd_cmd(
     iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
     repeat: int = typer.Option(3, "--repeat", help="Times the command is written (the brain keeps the newest)."),
     wait: float = typer.Option(3.0, "--wait", help="s to wait for the brain's reader."),
+    teleop: bool = typer.Option(
+        False, "--teleop", help="Steer with the keys (arrows/wasd speed, z/x turn, space stand, q stop) instead."
+    ),
 ) -> None:
-    """Write one live velocity command on rt/gaitshift/cmd_vel (read by gaitshift dds control --cmd-topic).
-    Exit 1 when no brain's reader matched within --wait s."""
+    """Write one live velocity command on rt/gaitshift/cmd_vel (read by gaitshift dds control --cmd-topic),
+    or with --teleop one per key press. Exit 1 when no brain's reader matched within --wait s."""
     import time
 
     from gaitshift.dds.cmdvel import publish
@@ -211,6 +214,9 @@ def dds_cmd_cmd(
     number_in("--repeat", repeat, (1, 1000))
     number_in("--wait", wait, (0.0, 600.0), "s")
     check_domain(domain)
+    if teleop:
+        _teleop(domain, iface)
+        return
     now = time.time()
     msg = VelocityCommand_(seq=int(now * 1e3) & 0xFFFFFFFF, stamp=now, vx=vx, vy=vy, yaw_rate=yaw_rate, stop=int(stop))
     endpoint = open_participant(domain, iface)  # gaitshift's topic only: nothing of the protocol
@@ -223,3 +229,35 @@ def dds_cmd_cmd(
         )
         raise typer.Exit(1)
     typer.echo(f"sent {what} on rt/gaitshift/cmd_vel (DDS domain {domain} over {iface})", err=True)
+
+
+def _teleop(domain: int, iface: str) -> None:
+    """``gaitshift dds cmd --teleop``: key presses to rt/gaitshift/cmd_vel until q (the stop command)."""
+    import sys
+
+    from gaitshift.errors import InputError
+
+    if not sys.stdin.isatty():
+        raise InputError("--teleop", "stdin", "a terminal to read the keys from")
+    _key_loop(domain, iface)  # pragma: no cover - needs a TTY
+
+
+def _key_loop(domain: int, iface: str) -> None:  # pragma: no cover - needs a TTY
+    from gaitshift.cli.keys import KeyReader
+    from gaitshift.dds.cmdvel import KeySteer
+    from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
+    from gaitshift.dds.transport import open_participant, topic_writer
+
+    writer, steer = topic_writer(open_participant(domain, iface), CMD_VEL_TOPIC, VelocityCommand_), KeySteer()
+    typer.echo("keys: arrows/wasd speed, z/x turn, space stand, q stop the run and quit", err=True)
+    with KeyReader() as keys:
+        while True:
+            for action in keys.poll(0.1):
+                msg = steer.press(action)
+                if msg is None:
+                    continue
+                writer.write(msg)
+                reader = "" if writer.get_matched_subscriptions() else " (no brain reading yet)"
+                typer.echo(f"vx {msg.vx:+.2f} m/s, vy {msg.vy:+.2f} m/s, yaw_rate {msg.yaw_rate:+.2f} rad/s{reader}")
+                if msg.stop:
+                    return

@@ -10,7 +10,8 @@ the next locomotion tick (:meth:`CommandInput.apply`; before locomotion it waits
 the plan ramps down, stands, ends, and the brain exits 0; later commands are dropped.
 
 :func:`publish` is the other side (``gaitshift dds cmd``): a command written a few times on its own
-participant, so another program (or a shell) steers the robot.
+participant, so another program (or a shell) steers the robot; :class:`KeySteer` turns key presses
+(``gaitshift dds cmd --teleop``, the keys of ``gaitshift teleop``) into commands.
 """
 
 import math
@@ -22,8 +23,9 @@ from typing import Any
 from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
 from gaitshift.dds.transport import Endpoint, Participant, topic_reader, topic_writer
 from gaitshift.errors import InputError
+from gaitshift.scenario.commands import KEYS, LOCOMOTION_STEP, key_change
 
-__all__ = ["MAX_LINES", "CommandInput", "CommandLimits", "check_command", "live_limits", "publish"]
+__all__ = ["MAX_LINES", "CommandInput", "CommandLimits", "KeySteer", "check_command", "live_limits", "publish"]
 
 #: dropped commands reported each with a line; later drops are only counted
 MAX_LINES = 5
@@ -150,3 +152,26 @@ def publish(
 def _matched(writer: Any) -> bool:
     """The writer has a matched reader."""
     return bool(writer.get_matched_subscriptions())
+
+
+class KeySteer:
+    """Key actions (:data:`gaitshift.cli.keys.KEY_ACTIONS`) as commands: ``up``/``down``, ``left``/``right``,
+    ``turn-left``/``turn-right`` change (vx, vy, yaw_rate) by :data:`~gaitshift.scenario.commands.LOCOMOTION_STEP`
+    (0.1 m/s, 0.05 m/s, 0.2 rad/s); ``stop`` (space) sets them to zero (the robot stands, the run goes on);
+    ``quit`` (q) is the stop command (the run ends)."""
+
+    def __init__(self) -> None:
+        self.v = [0.0, 0.0, 0.0]
+        self.seq = 0
+
+    def press(self, action: str) -> Any:
+        """The :class:`VelocityCommand_` of one key action (None for an unknown action)."""
+        if action in KEYS:
+            self.v = [a + b for a, b in zip(self.v, key_change(action, LOCOMOTION_STEP), strict=True)]
+        elif action == "stop":
+            self.v = [0.0, 0.0, 0.0]
+        elif action != "quit":
+            return None
+        self.seq += 1
+        vx, vy, w = (round(c, 9) for c in self.v)
+        return VelocityCommand_(seq=self.seq, stamp=time.time(), vx=vx, vy=vy, yaw_rate=w, stop=int(action == "quit"))
