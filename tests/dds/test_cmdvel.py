@@ -102,10 +102,15 @@ def test_over_dds_bad_commands_are_dropped_and_counted_the_newest_valid_one_appl
     # a stop, then a command: the stop is handed over, the command refused
     writer.write(VelocityCommand_(seq=12, stop=1))
     writer.write(VelocityCommand_(seq=13, vx=0.2))
-    take_all(inp, 10)
+    writer.write(VelocityCommand_(seq=12, stop=1))  # a repeat (gaitshift dds cmd writes --repeat times)
+    take_all(inp, 11)
     inp.apply(ctrl)
-    assert ctrl.calls[-1] == ("stop",) and inp.stopped and inp.dropped == 7
+    assert ctrl.calls[-1] == ("stop",) and inp.stopped and inp.dropped == 7 and inp.accepted == 4
     assert inp.last_error.startswith("VelocityCommand_ after a stop")
+    writer.write(VelocityCommand_(seq=12, stop=1))
+    take_all(inp, 12)
+    inp.apply(ctrl)
+    assert ctrl.calls.count(("stop",)) == 1 and inp.dropped == 7  # the stop handed over once
 
 
 def test_the_cmd_command_sends_one_command_refuses_bad_values_and_says_when_no_brain_listens(cli):

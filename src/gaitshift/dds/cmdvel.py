@@ -97,19 +97,22 @@ class CommandInput:
         self.last_error = ""
 
     def poll(self) -> None:
-        """Take every command received; keep the newest valid one (a stop is kept over later commands)."""
+        """Take every command received; keep the newest valid one (a stop is kept over later commands, which
+        are dropped; a repeated stop is accepted and changes nothing)."""
         for msg in self.reader.take(N=64):
             if not isinstance(msg, VelocityCommand_):
                 continue
             self.received += 1
             why = check_command(msg, self.limits)
-            if not why and (self.stopped or (self.pending is not None and self.pending.stop)):
+            stopping = self.stopped or (self.pending is not None and self.pending.stop)
+            if not why and stopping and not msg.stop:
                 why = "VelocityCommand_ after a stop: ignored (the run is ending)"
             if why:
                 self.drop(why)
                 continue
             self.accepted += 1
-            self.pending = msg
+            if not stopping:  # a repeated stop changes nothing
+                self.pending = msg
 
     def drop(self, why: str) -> None:
         self.dropped += 1
