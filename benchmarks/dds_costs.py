@@ -11,7 +11,10 @@ Per call, timed with ``time.perf_counter`` after warm-up calls, median and p99 (
 * ``lowstate_crc`` likewise for a ``LowState_``;
 * the conversions (``lowcmd_from_command`` with the CRC, ``frame_from_lowstate`` with the CRC check) and
   cyclonedds's ``serialize`` / ``deserialize`` of both messages: the rest of a control period's
-  protocol work.
+  protocol work;
+* gaitshift's own topics' per-tick work in the brain: the estimate (``estimate_message`` and its
+  ``serialize``, what a ``DataWriter.write`` does to it), a live command's check (``check_command``), and
+  a hold tick's gyro sample (``LegRate.residual``: the legs' rate of :mod:`gaitshift.dds.still_gyro`).
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -31,12 +35,18 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import unitree_oracle
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.dds import messages
+from gaitshift.dds.cmdvel import CommandLimits, check_command
 from gaitshift.dds.convert import (
     frame_from_lowstate,
     lowcmd_from_command,
     lowstate_from_frame,
 )
 from gaitshift.dds.crc import lowcmd_crc, lowstate_crc
+from gaitshift.dds.diagnostics import estimate_message
+from gaitshift.dds.own_messages import VelocityCommand_
+from gaitshift.dds.still_gyro import LegRate
+from gaitshift.robots.config import load_robot
+from gaitshift.robots.model import robot_model
 
 
 def timed(fn: Callable[[], Any], repeats: int, warmup: int = 3) -> dict[str, float]:
@@ -49,6 +59,21 @@ def timed(fn: Callable[[], Any], repeats: int, warmup: int = 3) -> dict[str, flo
         fn()
         t[i] = time.perf_counter() - t0
     return {"median_us": float(np.median(t) * 1e6), "p99_us": float(np.percentile(t, 99) * 1e6), "n": repeats}
+
+
+def own_topics(frame: SensorFrame, repeats: int) -> dict[str, dict[str, float]]:
+    """The brain's per-tick work on gaitshift's own topics (module docstring)."""
+    model = robot_model(load_robot("g1"), 0.002)
+    legs = LegRate(model.model, model.imu_site, tuple(model.robot.sole_bodies), model.motor_names)
+    est = SimpleNamespace(qpos=np.r_[0, 0, 0.75, 1, 0, 0, 0, frame.q], qvel=np.zeros(35), contact=np.ones(2, bool))
+    limits, cmd = CommandLimits(1.0, 0.5, 0.3, 1.0), VelocityCommand_(vx=0.4, yaw_rate=0.2)
+    return {
+        "Estimate_ (built + serialize)": timed(
+            lambda: estimate_message(7, 0.1, "locomotion", est).serialize(), repeats
+        ),
+        "check_command (VelocityCommand_)": timed(lambda: check_command(cmd, limits), repeats),
+        "LegRate.residual (a hold tick)": timed(lambda: legs.residual(frame.imu_gyro, frame.q, frame.dq), repeats),
+    }
 
 
 def main() -> None:
@@ -93,6 +118,7 @@ def main() -> None:
         "LowCmd_.deserialize": timed(lambda: messages.LowCmd_.deserialize(cmd_bytes), few),
         "LowState_.serialize": timed(state.serialize, few),
         "LowState_.deserialize": timed(lambda: messages.LowState_.deserialize(state_bytes), few),
+        **own_topics(frame, args.repeats // 4),
     }
     utc = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
     print(f"load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} cores, UTC {utc}")

@@ -2,10 +2,11 @@
 the loopback, both in lockstep (a fresh DDS domain per test, derived from the pytest worker's pid as in
 test_robot_process.py; the loopback configuration sends nothing elsewhere). On a tiny scenario (stand, walk
 0.2 m/s for 0.5 s, stop) the brain damps, stands the robot up, walks it and stops: exit 0, the robot did not
-fall, the pelvis moved forward as far as the plan within 5 cm, and the last command the robot received is
-damping. With the robot killed mid-run the brain finds the state stale, writes damping and exits 1 with one
-line saying so; with no robot at all it says so in one line and exits 1; domain 0 without --real-robot is
-refused (exit 2) before any DDS traffic, as is a flag out of its range."""
+fall, the pelvis moved forward as far as the plan within 5 cm, the last command the robot received is
+damping, the hold's gyro readings calibrated the controller, and the robot scored every estimate. With
+the robot killed mid-run the brain finds the state stale, writes damping and exits 1 with one line saying so;
+with no robot at all it says so in one line and exits 1; domain 0 without --real-robot is refused (exit 2)
+before any DDS traffic, as is a flag out of its range."""
 
 import json
 import os
@@ -30,8 +31,8 @@ commands:
   - {t: 0.0, vx: 0.2}
 stop_at: 0.5
 """
-#: short safety phases for a test; the stale limit leaves room for a loaded machine in lockstep
-BRAIN_FLAGS = ["--lockstep", "--damping-time", "0.02", "--standup-time", "0.3", "--stale-limit", "0.3"]
+#: short safety phases for a test (a 0.2 s hold); the stale limit leaves room for a loaded machine in lockstep
+BRAIN_FLAGS = ["--lockstep", "--damping-time", "0.02", "--standup-time", "0.3", "--stale-limit", "0.3", "--hold", "0.2"]
 
 
 def gaitshift(tmp_path, name, *argv):
@@ -116,6 +117,10 @@ def test_the_brain_stands_the_robot_up_walks_the_plan_and_ends_in_damping(tmp_pa
     assert is_damping(cmd)
     for key in ("tick_p50_ms", "tick_p99_ms", "tick_p999_ms", "missed_deadlines"):
         assert np.isfinite(s[key])
+    # the hold's 100 gyro samples calibrated the controller; the robot scored every controller tick's estimate
+    assert s["calibration_samples"] == 100 and s["estimates_written"] == s["ticks"]
+    assert r["estimates_scored"] == s["locomotion_ticks"] and r["estimates_unmatched"] == 0
+    assert r["est_velocity_rmse"] < 0.05 and r["est_tilt_rmse"] < 0.05 and abs(r["est_yaw_drift"]) < 0.02
 
 
 def test_the_robot_killed_mid_run_sends_the_brain_to_damping_and_exit_1(tmp_path):
@@ -177,6 +182,9 @@ def test_no_robot_is_one_line_and_exit_1(tmp_path):
         (["--tilt-limit", "3"], "--tilt-limit"),
         (["--standup-time", "0"], "--standup-time"),
         (["--state-timeout", "-1"], "--state-timeout"),
+        (["--hold", "-0.1"], "--hold"),
+        (["--diag-every", "-1"], "--diag-every"),
+        (["--cmd-topic"], "--cmd-topic"),  # g1-walk's plan is fixed: no live command
     ],
 )
 def test_a_bad_flag_or_domain_0_without_the_real_robot_flag_is_one_line_and_exit_2(cli, flags, name):

@@ -1,5 +1,6 @@
 """The brain's safety state machine (``gaitshift.dds.safety``) alone, without DDS or a controller: it goes
-damping -> stand-up -> locomotion -> stop -> damping in that order and at the set times; the stand-up's
+damping -> stand-up -> (hold) -> locomotion -> stop -> damping in that order and at the set times, the hold
+holding the start pose; the stand-up's
 targets run from the measured pose to the start pose with zero speed at both ends, and a joint driven by
 its PD command reaches the start pose; every fault (a stale state, a non-finite or out-of-range value, a
 joint beyond its range, a tilt beyond the limit, a non-finite command or a negative gain) sends it to
@@ -67,6 +68,24 @@ def test_phases_in_order_damping_standup_locomotion_stop_damping():
     assert order == ["damping", "stand-up", "locomotion", "stop"]
     assert seen.index("stand-up") == 10 and seen.index("locomotion") == 110
     assert s.locomotion_start == pytest.approx(1.1) and s.reason == "the plan ended"
+
+
+def test_the_hold_comes_between_the_standup_and_locomotion_and_holds_the_start_pose():
+    """With hold_time 0.3 s: damping, stand-up, hold (the start pose at zero speed with the stand-up's gains,
+    every tick of it), then locomotion, whose clock starts when the hold ends."""
+    s = machine(hold_time=0.3)
+    seen = []
+    for k in range(200):
+        cmd = s.step(k * 0.01, frame(), 0.0)
+        seen.append(s.phase)
+        if s.phase == "hold":
+            np.testing.assert_allclose(cmd.q, START)
+            np.testing.assert_allclose(cmd.dq, 0.0)
+            np.testing.assert_allclose(cmd.kp, s.settings.standup_kp)
+    order = [p for i, p in enumerate(seen) if i == 0 or seen[i - 1] != p]
+    assert order == ["damping", "stand-up", "hold", "locomotion"]
+    assert seen.index("hold") == 110 and seen.index("locomotion") == 140 and seen.count("hold") == 30
+    assert s.locomotion_start == pytest.approx(1.4)
 
 
 def test_standup_targets_run_from_the_measured_pose_to_the_start_pose_and_a_pd_joint_gets_there():

@@ -1,15 +1,21 @@
-"""Unitree low-level protocol commands: ``gaitshift dds robot ROBOT`` (the MuJoCo world behind the protocol) and
-``gaitshift dds control SCENARIO`` (the brain: the controller over the protocol, behind the safety machine)."""
+"""Unitree low-level protocol commands: ``gaitshift dds robot ROBOT`` (the MuJoCo world behind the protocol),
+``gaitshift dds control SCENARIO`` (the brain: the controller over the protocol, behind the safety machine) and
+``gaitshift dds cmd`` (a live velocity command to the brain on ``rt/gaitshift/cmd_vel``)."""
 
 from __future__ import annotations
 
 import json
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
 from gaitshift.cli.app import app, out_file
+
+if TYPE_CHECKING:
+    from gaitshift.control.controller import Controller
+    from gaitshift.dds.brain_options import BrainSummary
 
 dds_app = typer.Typer(help="Unitree's low-level DDS protocol (hg messages, the G1).", no_args_is_help=True)
 app.add_typer(dds_app, name="dds")
@@ -86,11 +92,20 @@ def dds_control_cmd(
     warm: bool = typer.Option(
         True, "--warm-up/--no-warm-up", help="Tick a throwaway controller first (fast 1st ticks)."
     ),
+    hold: float = typer.Option(0.5, "--hold", help="s standing still after the stand-up: the gyro calibration."),
+    calibrate: bool = typer.Option(
+        True, "--calibrate/--no-calibrate", help="Calibrate the gyro from the hold's readings."
+    ),
+    cmd_topic: bool = typer.Option(
+        False, "--cmd-topic", help="Take live velocity commands from rt/gaitshift/cmd_vel (a locomotion scenario)."
+    ),
+    diag_every: int = typer.Option(
+        1, "--diag-every", help="Write the state estimate on rt/gaitshift/estimate every N ticks (0: never)."
+    ),
 ) -> None:
     """Run SCENARIO's controller over the protocol: rt/lowstate in, rt/lowcmd out, behind the safety
     machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Exit 0 when the plan
     ended, 1 on a fault or when no robot answers."""
-    from gaitshift.common.jsonsafe import finite_json
     from gaitshift.dds.brain import BrainOptions, build_controller, run_brain
     from gaitshift.dds.warmup import warm_up
 
@@ -110,9 +125,17 @@ def dds_control_cmd(
         final_damping=final_damping,
         contact=contact,
         replan=replan,
+        hold=hold,
+        calibrate=calibrate,
+        cmd_topic=cmd_topic,
+        diag_every=diag_every,
     )
     mode = "lockstep" if lockstep else "real time"
+    if cmd_topic:
+        _live_scenario(scenario)  # refused before the controller is built
     ctrl = build_controller(opts)
+    if cmd_topic:
+        _live_commands(ctrl, scenario)  # not a live plan: one line, exit 2, before any DDS traffic
     if warm:
         # the throwaway re-plans inline: a worker of its own would only cost a process start
         typer.echo(f"warm-up: {warm_up(build_controller(replace(opts, replan='inline'))):.2f} s", err=True)
@@ -120,7 +143,36 @@ def dds_control_cmd(
         f"{scenario} on DDS domain {domain} over {iface} ({mode}): waiting up to {state_timeout:g} s for rt/lowstate",
         err=True,
     )
-    s = run_brain(opts, ctrl=ctrl)
+    s = run_brain(opts, ctrl=ctrl, say=lambda line: typer.echo(line, err=True))
+    _report(s, as_json)
+    raise typer.Exit(s.exit_code)
+
+
+def _live_scenario(scenario: str) -> None:
+    """:class:`InputError` ``--cmd-topic`` unless ``scenario`` plans with ``planner: locomotion`` (live commands)."""
+    from gaitshift.errors import InputError
+    from gaitshift.scenario import load_scenario
+
+    if load_scenario(scenario).planner != "locomotion":
+        raise InputError("--cmd-topic", scenario, "a live-command scenario (planner: locomotion)")
+
+
+def _live_commands(ctrl: Controller, scenario: str) -> None:
+    """The live plan's command limits in one line; :class:`InputError` when the plan takes no live command."""
+    from gaitshift.dds.cmdvel import live_limits
+
+    lim = live_limits(ctrl, scenario)
+    typer.echo(
+        f"live commands from rt/gaitshift/cmd_vel: vx [{-lim.backward:.3g}, {lim.forward:.3g}] m/s, "
+        f"|vy| <= {lim.sideways:.3g} m/s, |yaw_rate| <= {lim.yaw_rate:.3g} rad/s",
+        err=True,
+    )
+
+
+def _report(s: BrainSummary, as_json: bool) -> None:
+    """The brain's summary: JSON on stdout with ``as_json``; one line on stderr."""
+    from gaitshift.common.jsonsafe import finite_json
+
     if as_json:
         typer.echo(json.dumps(finite_json(s.as_dict()), indent=2, allow_nan=False))
     if s.exit_code:
@@ -132,4 +184,80 @@ def dds_control_cmd(
             "the robot damps",
             err=True,
         )
-    raise typer.Exit(s.exit_code)
+
+
+@dds_app.command("cmd")
+def dds_cmd_cmd(
+    vx: float = typer.Option(0.0, "--vx", help="Forward speed, m/s (heading frame)."),
+    vy: float = typer.Option(0.0, "--vy", help="Sideways speed, m/s (heading frame, left positive)."),
+    yaw_rate: float = typer.Option(0.0, "--yaw-rate", help="Turn rate, rad/s (counter-clockwise positive)."),
+    stop: bool = typer.Option(False, "--stop", help="Ramp down, stand and end the brain's run."),
+    domain: int = typer.Option(1, "--domain", help="DDS domain id of the brain."),
+    iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
+    repeat: int = typer.Option(3, "--repeat", help="Times the command is written (the brain keeps the newest)."),
+    wait: float = typer.Option(3.0, "--wait", help="s to wait for the brain's reader."),
+    teleop: bool = typer.Option(
+        False, "--teleop", help="Steer with the keys (arrows/wasd speed, z/x turn, space stand, q stop) instead."
+    ),
+) -> None:
+    """Write one live velocity command on rt/gaitshift/cmd_vel (read by gaitshift dds control --cmd-topic),
+    or with --teleop one per key press. Exit 1 when no brain's reader matched within --wait s."""
+    import time
+
+    from gaitshift.dds.cmdvel import publish
+    from gaitshift.dds.own_messages import VelocityCommand_
+    from gaitshift.dds.transport import check_domain, open_participant
+    from gaitshift.errors import number_in
+
+    for flag, value in (("--vx", vx), ("--vy", vy), ("--yaw-rate", yaw_rate)):
+        number_in(flag, value, (-10.0, 10.0), "rad/s" if flag == "--yaw-rate" else "m/s")
+    number_in("--repeat", repeat, (1, 1000))
+    number_in("--wait", wait, (0.0, 600.0), "s")
+    check_domain(domain)
+    if teleop:
+        _teleop(domain, iface)
+        return
+    now = time.time()
+    msg = VelocityCommand_(seq=int(now * 1e3) & 0xFFFFFFFF, stamp=now, vx=vx, vy=vy, yaw_rate=yaw_rate, stop=int(stop))
+    endpoint = open_participant(domain, iface)  # gaitshift's topic only: nothing of the protocol
+    what = "stop" if stop else f"vx {vx:g} m/s, vy {vy:g} m/s, yaw_rate {yaw_rate:g} rad/s"
+    if not publish(endpoint, msg, repeat=repeat, wait=wait):
+        typer.echo(
+            f"gaitshift: no reader of rt/gaitshift/cmd_vel on DDS domain {domain} over {iface} within "
+            f"{wait:g} s: is gaitshift dds control --cmd-topic running?",
+            err=True,
+        )
+        raise typer.Exit(1)
+    typer.echo(f"sent {what} on rt/gaitshift/cmd_vel (DDS domain {domain} over {iface})", err=True)
+
+
+def _teleop(domain: int, iface: str) -> None:
+    """``gaitshift dds cmd --teleop``: key presses to rt/gaitshift/cmd_vel until q (the stop command)."""
+    import sys
+
+    from gaitshift.errors import InputError
+
+    if not sys.stdin.isatty():
+        raise InputError("--teleop", "stdin", "a terminal to read the keys from")
+    _key_loop(domain, iface)  # pragma: no cover - needs a TTY
+
+
+def _key_loop(domain: int, iface: str) -> None:  # pragma: no cover - needs a TTY
+    from gaitshift.cli.keys import KeyReader
+    from gaitshift.dds.cmdvel import KeySteer
+    from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
+    from gaitshift.dds.transport import open_participant, topic_writer
+
+    writer, steer = topic_writer(open_participant(domain, iface), CMD_VEL_TOPIC, VelocityCommand_), KeySteer()
+    typer.echo("keys: arrows/wasd speed, z/x turn, space stand, q stop the run and quit", err=True)
+    with KeyReader() as keys:
+        while True:
+            for action in keys.poll(0.1):
+                msg = steer.press(action)
+                if msg is None:
+                    continue
+                writer.write(msg)
+                reader = "" if writer.get_matched_subscriptions() else " (no brain reading yet)"
+                typer.echo(f"vx {msg.vx:+.2f} m/s, vy {msg.vy:+.2f} m/s, yaw_rate {msg.yaw_rate:+.2f} rad/s{reader}")
+                if msg.stop:
+                    return

@@ -5,11 +5,18 @@ Each tick::
 
     take rt/lowstate                  the newest state with a good CRC (bad CRCs dropped and counted), as bytes
     frame_from_lowstate(...)          a NaN or out-of-range field: a fault
-    safety.step(t, frame, age)        damping -> stand-up -> locomotion -> stop, or a fault: damping
-    ctrl.tick(frame)                  locomotion only; its clock starts when the stand-up ends
+    take rt/gaitshift/cmd_vel         --cmd-topic: live commands checked, the newest valid one kept
+    safety.step(t, frame, age)        damping -> stand-up -> hold -> locomotion -> stop, or a fault: damping
+    ctrl.tick(frame)                  locomotion only; its clock starts when the hold ends
     safety.guard(cmd, frame)          q, dq, torque clamped to the robot's limits
     lowcmd_bytes(cmd, mm)             mode 1 on every motor, mode_machine from the state, the CRC set
     write rt/lowcmd
+    write rt/gaitshift/estimate       every diag_every ticks: the estimate (:mod:`gaitshift.dds.diagnostics`)
+
+The gyro readings of the hold (the robot standing still at the start pose, ``hold`` s) are the
+controller's calibration (``Controller.calibrate``), fed before its first tick. Live commands
+(:mod:`gaitshift.dds.cmdvel`) reach the controller at the locomotion ticks, through its ``command`` and
+``stop``. The brain reads ``rt/lowstate`` and ``rt/gaitshift/cmd_vel`` only: nothing of the robot's truth.
 
 The states are read and the commands written as their CDR bytes (:mod:`gaitshift.dds.cdr`: the same
 bytes as cyclonedds's (de)serialization, in a tenth of its time).
@@ -27,116 +34,35 @@ fault, no state within ``state_timeout`` s, or a real robot that is not damping 
 """
 
 import math
+import sys
 import time
-from dataclasses import asdict, dataclass, replace
+from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from gaitshift.control.controller import Controller
 from gaitshift.control.frames import MotorCommand, SensorFrame
-from gaitshift.control.replanner import REPLAN_MODES
+from gaitshift.dds.brain_options import BrainOptions, BrainSummary
 from gaitshift.dds.cdr import StateBytes
+from gaitshift.dds.cmdvel import CommandInput, live_limits
 from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes
+from gaitshift.dds.diagnostics import Diagnostics
 from gaitshift.dds.g1 import check_motor_order
 from gaitshift.dds.gravity import standing_torques
 from gaitshift.dds.messages import LowState_
-from gaitshift.dds.safety import Limits, Safety, SafetySettings, check_settings, standup_gains
+from gaitshift.dds.safety import Limits, Safety, SafetySettings, standup_gains
 from gaitshift.dds.signals import StopSignals
+from gaitshift.dds.still_gyro import LegRate
 from gaitshift.dds.ticklog import TickLog
-from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint
-from gaitshift.errors import GaitshiftError, InputError, number_in
+from gaitshift.dds.transport import Endpoint, open_endpoint
+from gaitshift.errors import GaitshiftError, InputError
 
 __all__ = ["BrainOptions", "BrainSummary", "build_controller", "passive_at_start", "run_brain"]
 
 #: |tau_est| N m under which a motor counts as passive (zero torque) at a real robot's start
 PASSIVE_TAU = 1.0
-
-
-@dataclass(frozen=True)
-class BrainOptions:
-    """Options of ``gaitshift dds control`` (module docstring; the safety ones: :class:`SafetySettings`).
-
-    Attributes:
-        scenario: built-in name or YAML. robot: robot name or YAML (None: the scenario's).
-        domain: DDS domain id (0: a real robot, only with ``real_robot``). iface: network interface.
-        lockstep: one tick per new state. state_timeout: s to wait for the first state.
-        real_robot: allow domain 0; refuse unless the robot is passive at start (:func:`passive_at_start`).
-        stale: s. damping_time, standup_time: s. damping_kd: N m s/rad. tilt: rad.
-        final_damping: s of damping written after ``stop`` or ``fault`` before exiting.
-        contact: the controller's contact detection ("torque": no foot force needed).
-        replan: where the controller re-plans (:mod:`gaitshift.control.replanner`; "process": off the tick).
-    """
-
-    scenario: str
-    robot: str | None = None
-    domain: int = 1
-    iface: str = "lo"
-    lockstep: bool = False
-    state_timeout: float = 10.0
-    real_robot: bool = False
-    stale: float = 0.02
-    damping_time: float = 0.1
-    standup_time: float = 2.0
-    damping_kd: float = 2.0
-    tilt: float = 0.6
-    final_damping: float = 0.2
-    contact: str = "torque"
-    replan: str = "process"
-
-    def __post_init__(self) -> None:
-        check_domain(self.domain)
-        if self.domain == 0 and not self.real_robot:
-            raise InputError("--domain", 0, "1-232 for a simulated robot; domain 0 is a real robot: add --real-robot")
-        check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)
-        number_in("--state-timeout", self.state_timeout, (0.01, 600.0), "s")
-        number_in("--final-damping", self.final_damping, (0.0, 60.0), "s")
-        if self.replan not in REPLAN_MODES:
-            raise InputError("--replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
-
-
-@dataclass(frozen=True)
-class BrainSummary:
-    """What the brain did (``gaitshift dds control --json``).
-
-    Attributes:
-        exit_code: 0 or 1 (module docstring). reason: why it ended (the fault, "the plan ended", ...).
-        phase: the last phase (``stop`` or ``fault``: damping). ticks: ticks run; locomotion_ticks: of which
-        the controller ticked. tick_p50_ms, tick_p99_ms, tick_p999_ms, tick_max_ms: tick durations.
-        missed_deadlines: ticks over their deadline. replans: ticks with a re-plan; replan_p50_ms,
-        replan_max_ms; locomotion_p50_ms, locomotion_max_ms: the other controller ticks.
-        states_received: LowState_ taken; states_dropped: of which dropped for their CRC.
-        planned_distance: m, the plan's horizontal CoM travel. wall_time: s. lockstep: the pacing.
-        plan_lag_p50, plan_lag_max: ticks a background re-plan's plan came after the tick it was due at
-        (NaN inline: none).
-    """
-
-    exit_code: int
-    reason: str
-    phase: str
-    ticks: int = 0
-    locomotion_ticks: int = 0
-    tick_p50_ms: float = math.nan
-    tick_p99_ms: float = math.nan
-    tick_p999_ms: float = math.nan
-    tick_max_ms: float = math.nan
-    missed_deadlines: int = 0
-    replans: int = 0
-    replan_p50_ms: float = math.nan
-    replan_max_ms: float = math.nan
-    locomotion_p50_ms: float = math.nan
-    locomotion_max_ms: float = math.nan
-    states_received: int = 0
-    states_dropped: int = 0
-    planned_distance: float = math.nan
-    wall_time: float = 0.0
-    lockstep: bool = False
-    plan_lag_p50: float = math.nan
-    plan_lag_max: float = math.nan
-
-    def as_dict(self) -> dict[str, Any]:
-        """The summary as plain values (NaN kept: write it with finite_json)."""
-        return asdict(self)
 
 
 def build_controller(opts: BrainOptions) -> Controller:
@@ -162,15 +88,25 @@ def _safety(ctrl: Controller, opts: BrainOptions) -> Safety:
     kp, kd = standup_gains(limits.tau_max)
     adr = [int(model.joint(name).qposadr[0]) for name in ctrl.motor_names]
     tau = standing_torques(ctrl.robot, ctrl.initial_qpos())
-    settings = SafetySettings(kp, kd, tau, opts.damping_time, opts.standup_time, opts.damping_kd, opts.stale, opts.tilt)
+    settings = SafetySettings(
+        kp, kd, tau, opts.damping_time, opts.standup_time, opts.damping_kd, opts.stale, opts.tilt, hold_time=opts.hold
+    )
     return Safety(limits, settings, ctrl.initial_qpos()[adr])
 
 
 class _Brain:
     """One run: the controller, the machine, the endpoint, the newest state, the counters."""
 
-    def __init__(self, opts: BrainOptions, ctrl: Controller, endpoint: Endpoint) -> None:
+    def __init__(self, opts: BrainOptions, ctrl: Controller, endpoint: Endpoint, say: Callable[[str], None]) -> None:
         self.opts, self.ctrl, self.endpoint = opts, ctrl, endpoint
+        limits = live_limits(ctrl, opts.scenario) if opts.cmd_topic else None
+        self.commands = None if limits is None else CommandInput(endpoint, limits, say)
+        self.diag = Diagnostics(endpoint, opts.diag_every) if opts.diag_every else None
+        self.gyro: list[np.ndarray] = []  # the hold's gyro readings less the legs' rate, rad/s
+        self.legs = (
+            LegRate(ctrl.robot.model, ctrl.imu_site, ctrl.foot_bodies, ctrl.motor_names) if ctrl.imu_site else None
+        )
+        self.calibrated = -1  # the readings fed to the calibration (-1: not yet done)
         self.n = len(ctrl.motor_names)
         self.period = ctrl.period
         self.safety = _safety(ctrl, opts)
@@ -244,17 +180,39 @@ class _Brain:
         """One tick at machine time ``t`` s with a state ``age`` s old: the command written; the tick's kind
         for the log (0 safety phase, 1 controller, 2 controller with a re-plan)."""
         frame, why = self.frame(t)
+        if self.commands is not None:
+            self.commands.poll()
         if frame is None:
             self.safety.fault(t, why)
             cmd: MotorCommand | None = self.safety.damping
         else:
             cmd = self.safety.step(t, frame, age)
+            if self.safety.phase == "hold" and self.legs is not None and self.opts.calibrate:
+                self.gyro.append(self.legs.residual(frame.imu_gyro, frame.q, frame.dq))
         kind = 0
         if cmd is None and frame is not None:
             cmd, kind = self.locomotion(t, frame)
         self.handled = self.state.tick
         self.write(cmd if cmd is not None else self.safety.damping)
+        if self.diag is not None:
+            record = self.ctrl.record if kind else None
+            self.diag.publish(self.handled, t, self.safety.phase, None if record is None else record.estimate)
         return kind
+
+    def calibrate(self, t: float) -> bool:
+        """Before the controller's first tick: its gyro calibration from the hold's readings (fewer than two:
+        none); False, and a fault at ``t`` s, when the controller refuses them."""
+        self.calibrated, gyro = len(self.gyro), self.gyro
+        self.gyro = []
+        if self.calibrated < 2 or not self.opts.calibrate:
+            self.calibrated = 0
+            return True
+        try:
+            self.ctrl.calibrate(np.array(gyro))
+        except GaitshiftError as e:
+            self.safety.fault(t, f"calibration: {e}")
+            return False
+        return True
 
     def locomotion(self, t: float, frame: SensorFrame) -> tuple[MotorCommand, int]:
         """The controller's tick at its own clock (zero when the stand-up ended), guarded; the plan's end
@@ -263,8 +221,12 @@ class _Brain:
         if self.ctrl.finished(tl):
             self.safety.stop(t)
             return self.safety.damping, 0
+        if self.calibrated < 0 and not self.calibrate(t):
+            return self.safety.damping, 0
         before = self.ctrl.trajectory
         try:
+            if self.commands is not None:
+                self.commands.apply(self.ctrl)
             raw = self.ctrl.tick(replace(frame, t=tl))
         except GaitshiftError as e:
             self.safety.fault(t, f"controller: {e}")
@@ -307,38 +269,56 @@ def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: flo
     s = brain.log.stats()
     com = brain.ctrl.trajectory.com_pos
     lags = np.asarray(getattr(brain.ctrl.replan, "lags", []), float)
+    cmds = brain.commands
     return BrainSummary(
         code,
         reason,
         phase,
-        s.ticks,
-        brain.loco_ticks,
-        s.p50,
-        s.p99,
-        s.p999,
-        s.max,
-        s.missed,
-        s.replans,
-        s.replan_p50,
-        s.replan_max,
-        s.other_p50,
-        s.other_max,
-        brain.received,
-        brain.dropped,
-        float(np.linalg.norm(com[-1, :2] - com[0, :2])),
-        wall,
-        brain.opts.lockstep,
-        float(np.median(lags)) if len(lags) else math.nan,
-        float(lags.max()) if len(lags) else math.nan,
+        ticks=s.ticks,
+        locomotion_ticks=brain.loco_ticks,
+        tick_p50_ms=s.p50,
+        tick_p99_ms=s.p99,
+        tick_p999_ms=s.p999,
+        tick_max_ms=s.max,
+        missed_deadlines=s.missed,
+        replans=s.replans,
+        replan_p50_ms=s.replan_p50,
+        replan_max_ms=s.replan_max,
+        locomotion_p50_ms=s.other_p50,
+        locomotion_max_ms=s.other_max,
+        states_received=brain.received,
+        states_dropped=brain.dropped,
+        planned_distance=float(np.linalg.norm(com[-1, :2] - com[0, :2])),
+        wall_time=wall,
+        lockstep=brain.opts.lockstep,
+        plan_lag_p50=float(np.median(lags)) if len(lags) else math.nan,
+        plan_lag_max=float(lags.max()) if len(lags) else math.nan,
+        calibration_samples=max(brain.calibrated, 0),
+        commands_received=cmds.received if cmds else 0,
+        commands_accepted=cmds.accepted if cmds else 0,
+        commands_dropped=cmds.dropped if cmds else 0,
+        commands_applied=cmds.applied if cmds else 0,
+        command_error=cmds.last_error if cmds else "",
+        estimates_written=brain.diag.written if brain.diag else 0,
     )
 
 
-def run_brain(opts: BrainOptions, endpoint: Endpoint | None = None, ctrl: Controller | None = None) -> BrainSummary:
-    """Run the brain (module docstring) until the plan ended, a fault, or SIGINT/SIGTERM."""
+def _stderr(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def run_brain(
+    opts: BrainOptions,
+    endpoint: Endpoint | None = None,
+    ctrl: Controller | None = None,
+    say: Callable[[str], None] = _stderr,
+) -> BrainSummary:
+    """Run the brain (module docstring) until the plan ended, a fault, or SIGINT/SIGTERM; ``say`` takes the
+    lines of the run (a dropped live command)."""
     ctrl = ctrl or build_controller(opts)
     start = time.perf_counter()
     endpoint = endpoint or open_endpoint(opts.domain, opts.iface, "controller")
-    brain = _Brain(opts, ctrl, endpoint)
+    brain = _Brain(opts, ctrl, endpoint, say)
     where = f"DDS domain {opts.domain} over {opts.iface}"
     if not brain.wait_first():
         reason = (

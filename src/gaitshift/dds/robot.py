@@ -9,6 +9,10 @@ Every control period ``dt`` (the physics step, 2 ms)::
     take rt/lowcmd                         every LowCmd_ received: counted; a bad CRC or a bad field dropped
     world.apply(command)                   tau + kp (q_des - q) + kd (dq_des - dq) per motor
     world.step()
+    take rt/gaitshift/estimate             the brain's estimates, scored against the truth kept per tick
+
+The robot scores the brain's state estimate (:mod:`gaitshift.dds.scoring`) when the brain writes it: the
+truth stays in this process, nothing of it is written on DDS.
 
 The command applied is the newest valid one; when none has come for ``damping_after`` s (or none yet) the
 motors damp: ``kp = 0``, ``kd = damping_kd``, ``tau = 0``. Pacing: real time by default (tick k at
@@ -20,7 +24,7 @@ s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary
 
 import math
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -28,8 +32,10 @@ import numpy as np
 from gaitshift.control.frames import MotorCommand
 from gaitshift.dds.convert import command_from_lowcmd, lowstate_from_frame
 from gaitshift.dds.g1 import check_motor_order
+from gaitshift.dds.own_messages import ESTIMATE_TOPIC, Estimate_
+from gaitshift.dds.scoring import EstimateScore, ScoreSummary
 from gaitshift.dds.signals import StopSignals
-from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint
+from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint, topic_reader
 from gaitshift.errors import InputError, number_in
 from gaitshift.robots.model import standing_qpos
 from gaitshift.sim.loop import SimOptions
@@ -94,6 +100,8 @@ class RobotSummary:
         crc_rejects: of which dropped for their CRC. commands_applied: ticks driven by a received command;
         damping_ticks: ticks in damping. late_ticks: real time only: ticks that started over a period late.
         stopped_by: "duration" or the signal's name.
+        estimates_received ... est_position_drift: the brain's estimate scored against the truth
+        (:class:`~gaitshift.dds.scoring.ScoreSummary`; NaN when none was scored).
     """
 
     fell: bool = False
@@ -111,6 +119,15 @@ class RobotSummary:
     damping_ticks: int = 0
     late_ticks: int = 0
     stopped_by: str = ""
+    estimates_received: int = 0
+    estimates_scored: int = 0
+    estimates_unmatched: int = 0
+    est_velocity_rmse: float = math.nan
+    est_tilt_rmse: float = math.nan
+    est_height_rmse: float = math.nan
+    est_contact_accuracy: float = math.nan
+    est_yaw_drift: float = math.nan
+    est_position_drift: float = math.nan
     last_error: str = field(default="", repr=False)
 
     def as_dict(self) -> dict[str, Any]:
@@ -136,12 +153,17 @@ class _Robot:
         self.state: Any = None  # the last LowState_ written
         zero = np.zeros(self.n)
         self.damping = MotorCommand(q=zero, dq=zero, kp=zero, kd=np.full(self.n, opts.damping_kd), tau=zero)
+        self.estimates = topic_reader(endpoint, ESTIMATE_TOPIC, Estimate_, depth=256)
+        self.score = EstimateScore()
 
     def publish(self, k: int) -> None:
         """Observe tick ``k`` (the fall test) and write its state."""
         why = self.world.observe(k)
         if why is not None and not self.summary.fell:
             self.summary.fell, self.summary.fall_time, self.summary.fall_reason = True, k * self.dt, why
+        d, contacts = self.world.d, self.world.contacts
+        assert contacts is not None
+        self.score.truth(k, d.qpos, d.qvel, contacts.touching)
         self.state = lowstate_from_frame(self.world.sense(k), k, self.opts.mode_machine)
         self.endpoint.writer.write(self.state)
         self.summary.states_published += 1
@@ -164,6 +186,13 @@ class _Robot:
                 s.last_error = str(e)
                 continue
             self.command_time, self.fresh = t, True
+        self.take_estimates()
+
+    def take_estimates(self) -> None:
+        """Score every Estimate_ received (:mod:`gaitshift.dds.scoring`)."""
+        for msg in self.estimates.take(N=256):
+            if isinstance(msg, Estimate_):
+                self.score.add(msg)
 
     def act(self, k: int) -> None:
         """Apply the command of tick ``k`` (damping when none is recent) and step the physics."""
@@ -227,4 +256,8 @@ def run_robot(opts: RobotOptions, endpoint: Endpoint | None = None) -> RobotSumm
         s.stopped_by = stop.why or "duration"
         s.wall_time = time.perf_counter() - start
         s.distance = float(np.linalg.norm(robot.world.d.qpos[:2] - robot.start_xy))
+        robot.take_estimates()
+        score = robot.score.summary()
+        for f in fields(ScoreSummary):
+            setattr(s, f.name, getattr(score, f.name))
     return robot.summary

@@ -3,13 +3,15 @@ faults that send it to damping.
 
 .. code-block:: text
 
-    damping --(damping_time s)--> stand-up --(standup_time s)--> locomotion --(plan ended)--> stop
-       \\______________________________\\___________________________\\--(any fault)--> fault
+    damping --(damping_time)--> stand-up --(standup_time)--> hold --(hold_time)--> locomotion --(plan ended)--> stop
+       \\__________________________\\_______________________\\_________________\\--(any fault)--> fault
 
 ``damping``: ``kp = 0``, ``kd = damping_kd``, ``tau = 0`` (the same command in ``stop`` and ``fault``).
 ``stand-up``: PD towards targets interpolated (smoothstep) from the pose measured when it began to the
 controller's start pose, ``standup_kp`` / ``standup_kd`` per motor, plus the feed-forward ``standup_tau``
-(the torques that hold the start pose on both soles). ``locomotion``: the host ticks its
+(the torques that hold the start pose on both soles). ``hold``: the stand-up's last command (the start
+pose, zero speed, the same gains and feed-forward) for ``hold_time`` s: the robot stands still, the host
+collects its gyro readings for the controller's calibration (0 s: no hold). ``locomotion``: the host ticks its
 controller (:meth:`Safety.step` returns None) and passes the command through :meth:`Safety.guard`.
 
 Faults (each one line, the machine goes to ``fault`` and stays there): the state older than
@@ -31,7 +33,7 @@ from gaitshift.errors import InputError, number_in
 __all__ = ["PHASES", "Limits", "Safety", "SafetySettings", "check_settings", "standup_gains", "tilt_angle"]
 
 #: the phases, in the order a run goes through them (``fault`` may follow any)
-PHASES = ("damping", "stand-up", "locomotion", "stop", "fault")
+PHASES = ("damping", "stand-up", "hold", "locomotion", "stop", "fault")
 #: kp per unit of torque limit (1/rad) and kd per unit of torque limit (s/rad) of the stand-up PD
 STANDUP_KP_PER_TAU, STANDUP_KD_PER_TAU = 4.0, 0.1
 
@@ -72,7 +74,8 @@ class SafetySettings:
     Attributes:
         standup_tau: (n,) N m, the stand-up's feed-forward (the torques that hold the start pose on both
         soles, :func:`gaitshift.dds.gravity.standing_torques`); None: zero.
-        damping_time: s of damping before the stand-up. standup_time: s of the stand-up.
+        damping_time: s of damping before the stand-up. standup_time: s of the stand-up. hold_time: s of
+        the still hold after it (the gyro calibration's samples; 0: none).
         damping_kd: N m s/rad, the damping gain. standup_kp: (n,) N m/rad; standup_kd: (n,) N m s/rad.
         stale: s, the oldest state accepted. tilt: rad, the largest pelvis tilt (a fall beyond it).
         joint_margin: rad a joint may go past its range. speed_margin: factor on the speed limit a
@@ -89,9 +92,11 @@ class SafetySettings:
     tilt: float = 0.6
     joint_margin: float = 0.05
     speed_margin: float = 1.5
+    hold_time: float = 0.0
 
     def __post_init__(self) -> None:
         check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)
+        number_in("--hold", self.hold_time, (0.0, 60.0), "s")
 
 
 def check_settings(damping_time: float, standup_time: float, damping_kd: float, stale: float, tilt: float) -> None:
@@ -209,10 +214,14 @@ class Safety:
             self.standup_from = np.asarray(frame.q, float).copy()
             self.enter("stand-up", t)
         if self.phase == "stand-up" and t - self.since >= s.standup_time:
+            self.enter("hold", t)
+        if self.phase == "hold" and t - self.since >= s.hold_time:
             self.enter("locomotion", t)
             self.locomotion_start = t
         if self.phase == "stand-up":
             return self.guard(self.standup_command(t), frame, t)
+        if self.phase == "hold":
+            return self.guard(self.hold_command(), frame, t)
         if self.phase == "locomotion":
             return None
         return self.damping
@@ -232,6 +241,14 @@ class Safety:
             kp=self.settings.standup_kp.copy(),
             kd=self.settings.standup_kd.copy(),
             tau=np.zeros(n) if self.settings.standup_tau is None else self.settings.standup_tau.copy(),
+        )
+
+    def hold_command(self) -> MotorCommand:
+        """The hold's PD command: the start pose at zero speed, the stand-up's gains and feed-forward."""
+        s, n = self.settings, len(self.start_pose)
+        tau = np.zeros(n) if s.standup_tau is None else s.standup_tau.copy()
+        return MotorCommand(
+            q=self.start_pose.copy(), dq=np.zeros(n), kp=s.standup_kp.copy(), kd=s.standup_kd.copy(), tau=tau
         )
 
     def guard(self, cmd: MotorCommand, frame: SensorFrame, t: float) -> MotorCommand:

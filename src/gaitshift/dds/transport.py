@@ -30,9 +30,13 @@ __all__ = [
     "BytesReader",
     "BytesWriter",
     "Endpoint",
+    "Participant",
     "check_domain",
     "cyclone_config",
     "open_endpoint",
+    "open_participant",
+    "topic_reader",
+    "topic_writer",
 ]
 
 LOWCMD_TOPIC = "rt/lowcmd"
@@ -43,6 +47,8 @@ LOOPBACK = ("lo", "lo0", "127.0.0.1")
 #: the reader keeps this many samples between two takes (the default keeps one: the newest), so that every
 #: message received is seen and counted; the writer keeps a few for retransmission
 READER_DEPTH, WRITER_DEPTH = 64, 8
+#: the domains this process configured, kept alive with it
+_DOMAINS: dict[int, Any] = {}
 
 
 def cyclone_config(iface: str) -> str:
@@ -123,14 +129,31 @@ def check_domain(domain: int) -> int:
     return domain
 
 
+@dataclass
+class Participant:
+    """A DDS participant (and its domain, kept alive with it), without the protocol's topics: for a program
+    that only talks gaitshift's own topics (``gaitshift dds cmd``)."""
+
+    participant: Any
+    domain: Any
+
+
+def open_participant(domain: int, iface: str) -> Participant:
+    """A participant on DDS ``domain`` over ``iface`` (:func:`cyclone_config`; the first participant of the
+    process on ``domain`` sets its interface)."""
+    if not iface or any(c in iface for c in "<>\"'&"):
+        raise InputError("--iface", iface, "a network interface name, e.g. lo or eth0")
+    if check_domain(domain) not in _DOMAINS:  # a process configures a domain once (a second Domain is refused)
+        _DOMAINS[domain] = Domain(domain, cyclone_config(iface))
+    return Participant(DomainParticipant(domain), _DOMAINS[domain])
+
+
 def open_endpoint(domain: int, iface: str, side: str) -> Endpoint:
     """The :class:`Endpoint` of ``side`` ("robot" or "controller") on DDS ``domain`` over ``iface``."""
     if side not in ("robot", "controller"):
         raise InputError("side", side, "robot or controller")
-    if not iface or any(c in iface for c in "<>\"'&"):
-        raise InputError("--iface", iface, "a network interface name, e.g. lo or eth0")
-    dom = Domain(check_domain(domain), cyclone_config(iface))
-    participant = DomainParticipant(domain)
+    p = open_participant(domain, iface)
+    participant, dom = p.participant, p.domain
     cmd = Topic(participant, LOWCMD_TOPIC, LowCmd_)
     state = Topic(participant, LOWSTATE_TOPIC, LowState_)
     out, inp = (state, cmd) if side == "robot" else (cmd, state)
@@ -141,3 +164,19 @@ def open_endpoint(domain: int, iface: str, side: str) -> Endpoint:
     waitset.attach(condition)
     kind = LowCmd_ if side == "robot" else LowState_
     return Endpoint(participant, kind, writer, reader, waitset, condition, dom)
+
+
+def topic_writer(endpoint: Endpoint | Participant, name: str, kind: type) -> Any:
+    """A writer of topic ``name`` (IDL type ``kind``) on ``endpoint``'s participant: gaitshift's own topics
+    (:mod:`gaitshift.dds.own_messages`), beside the protocol's."""
+    topic: Any = Topic(endpoint.participant, name, kind)
+    qos = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.History.KeepLast(WRITER_DEPTH))
+    return DataWriter(endpoint.participant, topic, qos=qos)
+
+
+def topic_reader(endpoint: Endpoint | Participant, name: str, kind: type, depth: int = READER_DEPTH) -> Any:
+    """A reader of topic ``name`` (IDL type ``kind``) on ``endpoint``'s participant, keeping ``depth`` samples
+    between two takes (it is polled: not attached to the endpoint's wait set). Both ends reliable."""
+    topic: Any = Topic(endpoint.participant, name, kind)
+    qos = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.History.KeepLast(depth))
+    return DataReader(endpoint.participant, topic, qos=qos)

@@ -1,0 +1,121 @@
+"""The options and the summary of the brain ``gaitshift dds control`` (:mod:`gaitshift.dds.brain`)."""
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from gaitshift.control.replanner import REPLAN_MODES
+from gaitshift.dds.safety import check_settings
+from gaitshift.dds.transport import check_domain
+from gaitshift.errors import InputError, number_in
+
+__all__ = ["BrainOptions", "BrainSummary"]
+
+
+@dataclass(frozen=True)
+class BrainOptions:
+    """Options of ``gaitshift dds control`` (:mod:`gaitshift.dds.brain`; the safety ones:
+    :class:`~gaitshift.dds.safety.SafetySettings`).
+
+    Attributes:
+        scenario: built-in name or YAML. robot: robot name or YAML (None: the scenario's).
+        domain: DDS domain id (0: a real robot, only with ``real_robot``). iface: network interface.
+        lockstep: one tick per new state. state_timeout: s to wait for the first state.
+        real_robot: allow domain 0; refuse unless the robot is passive at start (:func:`passive_at_start`).
+        stale: s. damping_time, standup_time: s. damping_kd: N m s/rad. tilt: rad.
+        final_damping: s of damping written after ``stop`` or ``fault`` before exiting.
+        contact: the controller's contact detection ("torque": no foot force needed).
+        replan: where the controller re-plans (:mod:`gaitshift.control.replanner`; "process": off the tick).
+        hold: s of the still hold after the stand-up; its gyro readings calibrate the controller (0: none).
+        calibrate: feed the hold's gyro readings to ``Controller.calibrate`` (False: the hold only).
+        cmd_topic: take live velocity commands from ``rt/gaitshift/cmd_vel`` (:mod:`gaitshift.dds.cmdvel`).
+        diag_every: write the state estimate on ``rt/gaitshift/estimate`` every this many ticks (0: never).
+    """
+
+    scenario: str
+    robot: str | None = None
+    domain: int = 1
+    iface: str = "lo"
+    lockstep: bool = False
+    state_timeout: float = 10.0
+    real_robot: bool = False
+    stale: float = 0.02
+    damping_time: float = 0.1
+    standup_time: float = 2.0
+    damping_kd: float = 2.0
+    tilt: float = 0.6
+    final_damping: float = 0.2
+    contact: str = "torque"
+    replan: str = "process"
+    hold: float = 0.5
+    calibrate: bool = True
+    cmd_topic: bool = False
+    diag_every: int = 1
+
+    def __post_init__(self) -> None:
+        check_domain(self.domain)
+        if self.domain == 0 and not self.real_robot:
+            raise InputError("--domain", 0, "1-232 for a simulated robot; domain 0 is a real robot: add --real-robot")
+        check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)
+        number_in("--state-timeout", self.state_timeout, (0.01, 600.0), "s")
+        number_in("--final-damping", self.final_damping, (0.0, 60.0), "s")
+        if self.replan not in REPLAN_MODES:
+            raise InputError("--replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
+        number_in("--hold", self.hold, (0.0, 60.0), "s")
+        if isinstance(self.diag_every, bool) or not isinstance(self.diag_every, int) or self.diag_every < 0:
+            raise InputError("--diag-every", self.diag_every, "an integer >= 0 (0: no diagnostics)")
+
+
+@dataclass(frozen=True)
+class BrainSummary:
+    """What the brain did (``gaitshift dds control --json``).
+
+    Attributes:
+        exit_code: 0 or 1 (module docstring). reason: why it ended (the fault, "the plan ended", ...).
+        phase: the last phase (``stop`` or ``fault``: damping). ticks: ticks run; locomotion_ticks: of which
+        the controller ticked. tick_p50_ms, tick_p99_ms, tick_p999_ms, tick_max_ms: tick durations.
+        missed_deadlines: ticks over their deadline. replans: ticks with a re-plan; replan_p50_ms,
+        replan_max_ms; locomotion_p50_ms, locomotion_max_ms: the other controller ticks.
+        states_received: LowState_ taken; states_dropped: of which dropped for their CRC.
+        planned_distance: m, the plan's horizontal CoM travel. wall_time: s. lockstep: the pacing.
+        plan_lag_p50, plan_lag_max: ticks a background re-plan's plan came after the tick it was due at
+        (NaN inline: none).
+        calibration_samples: gyro readings of the hold fed to ``Controller.calibrate`` (0: not calibrated).
+        commands_received, commands_accepted, commands_dropped, commands_applied: ``rt/gaitshift/cmd_vel``
+        samples taken, valid, refused (NaN, out of range, after a stop), handed to the controller;
+        command_error: the last refusal's line. estimates_written: ``rt/gaitshift/estimate`` samples.
+    """
+
+    exit_code: int
+    reason: str
+    phase: str
+    ticks: int = 0
+    locomotion_ticks: int = 0
+    tick_p50_ms: float = math.nan
+    tick_p99_ms: float = math.nan
+    tick_p999_ms: float = math.nan
+    tick_max_ms: float = math.nan
+    missed_deadlines: int = 0
+    replans: int = 0
+    replan_p50_ms: float = math.nan
+    replan_max_ms: float = math.nan
+    locomotion_p50_ms: float = math.nan
+    locomotion_max_ms: float = math.nan
+    states_received: int = 0
+    states_dropped: int = 0
+    planned_distance: float = math.nan
+    wall_time: float = 0.0
+    lockstep: bool = False
+    plan_lag_p50: float = math.nan
+    plan_lag_max: float = math.nan
+    calibration_samples: int = 0
+    commands_received: int = 0
+    commands_accepted: int = 0
+    commands_dropped: int = 0
+    commands_applied: int = 0
+    command_error: str = ""
+    estimates_written: int = 0
+
+    def as_dict(self) -> dict[str, Any]:
+        """The summary as plain values (NaN kept: write it with finite_json)."""
+        return asdict(self)
