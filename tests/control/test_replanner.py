@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import gaitshift
+from dds_processes import TINY
 from gaitshift.control.controller import Controller
 from gaitshift.control.replanner import BackgroundReplan, InlineReplan, replanner
 from gaitshift.control.settings import ControllerSettings
@@ -24,15 +25,6 @@ from gaitshift.control.vhip_driver import VhipDriver
 from gaitshift.dds.warmup import still_frame
 from gaitshift.errors import GaitshiftError, InputError
 
-TINY = """planner: locomotion
-name: tiny-walk
-robot: g1
-gait: walk
-timing: {start: 0.3, stop: 0.3}
-commands:
-  - {t: 0.0, vx: 0.2}
-stop_at: 0.5
-"""
 #: m, the measured CoM's offset from the plan: the re-plans move the footholds
 DISPLACED = np.array([0.0, 0.03, 0.0])
 

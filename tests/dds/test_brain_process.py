@@ -11,37 +11,16 @@ before any DDS traffic, as is a flag out of its range."""
 import json
 import os
 import signal
-import subprocess
-import sys
 import time
 
 import numpy as np
 import pytest
 
+from dds_processes import BRAIN_FLAGS, TINY, gaitshift
 from gaitshift.dds.transport import open_endpoint
 
 #: offsets 30.. past test_robot_process.py's (0..29) on the same pid-derived base
 BASE_DOMAIN = 100 + os.getpid() % 90 + 30
-SCENARIO = """planner: locomotion
-name: tiny-walk
-robot: g1
-gait: walk
-timing: {start: 0.3, stop: 0.3}
-commands:
-  - {t: 0.0, vx: 0.2}
-stop_at: 0.5
-"""
-#: short safety phases for a test (a 0.2 s hold); the stale limit leaves room for a loaded machine in lockstep
-BRAIN_FLAGS = ["--lockstep", "--damping-time", "0.02", "--standup-time", "0.3", "--stale-limit", "0.3", "--hold", "0.2"]
-
-
-def gaitshift(tmp_path, name, *argv):
-    """``gaitshift argv`` as a process; stdout to ``name``.out, stderr to ``name``.err."""
-    code = "from gaitshift.cli import main; main()"
-    out, err = open(tmp_path / f"{name}.out", "w"), open(tmp_path / f"{name}.err", "w")  # noqa: SIM115
-    env = {**os.environ, "MUJOCO_GL": "egl"}
-    proc = subprocess.Popen([sys.executable, "-c", code, *argv], stdout=out, stderr=err, env=env)
-    return proc, (out, err)
 
 
 def finish(proc, files, timeout=120.0):
@@ -56,7 +35,7 @@ def finish(proc, files, timeout=120.0):
 
 
 def start_pair(tmp_path, domain, *extra):
-    (tmp_path / "tiny.yaml").write_text(SCENARIO)
+    (tmp_path / "tiny.yaml").write_text(TINY)
     robot = gaitshift(
         tmp_path,
         "robot",
@@ -152,7 +131,7 @@ def test_the_robot_killed_mid_run_sends_the_brain_to_damping_and_exit_1(tmp_path
 
 def test_no_robot_is_one_line_and_exit_1(tmp_path):
     """Nobody publishes rt/lowstate: after --state-timeout one line names the domain and the interface."""
-    (tmp_path / "tiny.yaml").write_text(SCENARIO)
+    (tmp_path / "tiny.yaml").write_text(TINY)
     brain, files = gaitshift(
         tmp_path,
         "brain",

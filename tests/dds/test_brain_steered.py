@@ -11,12 +11,11 @@ robot's writes ``rt/lowstate`` only: no truth reaches the brain."""
 import json
 import os
 import signal
-import subprocess
-import sys
 import time
 
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 
+from dds_processes import BRAIN_FLAGS, gaitshift
 from gaitshift.dds.own_messages import CMD_VEL_TOPIC, ESTIMATE_TOPIC, Estimate_, VelocityCommand_
 from gaitshift.dds.transport import open_participant, topic_reader, topic_writer
 
@@ -31,16 +30,6 @@ commands:
   - {t: 0.0, vx: 0.0}
 stop_at: 30.0
 """
-#: short safety phases (as test_brain_process.py), a 0.2 s hold
-BRAIN_FLAGS = ["--lockstep", "--damping-time", "0.02", "--standup-time", "0.3", "--stale-limit", "0.3", "--hold", "0.2"]
-
-
-def gaitshift(tmp_path, name, *argv):
-    """``gaitshift argv`` as a process; stdout to ``name``.out, stderr to ``name``.err."""
-    code = "from gaitshift.cli import main; main()"
-    out, err = open(tmp_path / f"{name}.out", "w"), open(tmp_path / f"{name}.err", "w")  # noqa: SIM115
-    env = {**os.environ, "MUJOCO_GL": "egl"}
-    return subprocess.Popen([sys.executable, "-c", code, *argv], stdout=out, stderr=err, env=env), (out, err)
 
 
 def finish(proc, files, timeout=120.0):

@@ -32,6 +32,7 @@ alone from a table sampled once per swing and re-target (the VHIP generator's pe
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -222,6 +223,18 @@ class FootTrack:
             pose = sw.end
         return pose
 
+    def _segments(self, a: int, b: int) -> Iterator[tuple[Swing, int, int]]:
+        """The swings over samples a..b-1, each with its samples ``lo..hi-1`` inside them (every swing
+        lands before the next one lifts); the pose before the first is :attr:`rest`, after each its end."""
+        for sw in self.swings:
+            if sw.i_land <= a:
+                yield sw, a, a  # landed before the window: its end holds from a on
+                continue
+            lo = max(sw.i_lift, a)
+            if lo >= b:
+                return
+            yield sw, lo, min(sw.i_land, b)
+
     def evaluate(
         self, a: int, b: int, out: tuple[FloatArray, FloatArray, FloatArray] | None = None
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -232,16 +245,10 @@ class FootTrack:
         pos[:] = self.rest
         vel[:] = 0.0
         acc[:] = 0.0
-        for sw in self.swings:
-            if sw.i_land <= a:
-                pos[:] = sw.end
-                continue
-            lo = max(sw.i_lift, a)
-            if lo >= b:
-                break
-            hi = min(sw.i_land, b)
-            p, v, ac = sw.evaluate(np.arange(lo, hi, dtype=np.float64))
-            pos[lo - a : hi - a], vel[lo - a : hi - a], acc[lo - a : hi - a] = p, v, ac
+        for sw, lo, hi in self._segments(a, b):
+            if lo < hi:
+                p, v, ac = sw.evaluate(np.arange(lo, hi, dtype=np.float64))
+                pos[lo - a : hi - a], vel[lo - a : hi - a], acc[lo - a : hi - a] = p, v, ac
             pos[hi - a :], vel[hi - a :], acc[hi - a :] = sw.end, 0.0, 0.0
         return pos, vel, acc
 
@@ -251,15 +258,9 @@ class FootTrack:
         control tick: a slice per swing)."""
         pos = np.empty((b - a, 4))
         pos[:] = self.rest
-        for sw in self.swings:
-            if sw.i_land <= a:
-                pos[:] = sw.end
-                continue
-            lo = max(sw.i_lift, a)
-            if lo >= b:
-                break
-            hi = min(sw.i_land, b)
-            pos[lo - a : hi - a] = sw.sampled(lo, hi)
+        for sw, lo, hi in self._segments(a, b):
+            if lo < hi:
+                pos[lo - a : hi - a] = sw.sampled(lo, hi)
             pos[hi - a :] = sw.end
         return pos
 

@@ -1,0 +1,30 @@
+"""What the DDS tests share: the tiny walking scenario, the brain's short safety phases, and
+``gaitshift`` commands run as real processes."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+#: a 0.5 s walk at 0.2 m/s (the brain's and the replanner's test scenario)
+TINY = """planner: locomotion
+name: tiny-walk
+robot: g1
+gait: walk
+timing: {start: 0.3, stop: 0.3}
+commands:
+  - {t: 0.0, vx: 0.2}
+stop_at: 0.5
+"""
+#: short safety phases for a test (a 0.2 s hold); the stale limit leaves room for a loaded machine in lockstep
+BRAIN_FLAGS = ["--lockstep", "--damping-time", "0.02", "--standup-time", "0.3", "--stale-limit", "0.3", "--hold", "0.2"]
+
+
+def gaitshift(tmp_path, name, *argv):
+    """``gaitshift argv`` as a process; stdout to ``name``.out, stderr to ``name``.err. Returns the
+    process and the two open files."""
+    code = "from gaitshift.cli import main; main()"
+    out, err = open(tmp_path / f"{name}.out", "w"), open(tmp_path / f"{name}.err", "w")  # noqa: SIM115
+    env = {**os.environ, "MUJOCO_GL": "egl"}
+    return subprocess.Popen([sys.executable, "-c", code, *argv], stdout=out, stderr=err, env=env), (out, err)
