@@ -240,7 +240,7 @@ class ControllerState:
         else:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
             joints = JointReading(q=frame.q, qd=frame.dq)
-            forces = FootForces(normal=self._sole_forces(frame, planned))
+            forces = FootForces(normal=self._sole_forces(frame))
             t0 = time.perf_counter()
             s = self.estimator.step(imu, joints, forces, planned)
             cost = 1e6 * (time.perf_counter() - t0)
@@ -257,34 +257,26 @@ class ControllerState:
         self.record = EstimateRecord(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
         return view
 
-    def _sole_forces(self, frame: SensorFrame, planned: np.ndarray) -> np.ndarray:
+    def _sole_forces(self, frame: SensorFrame) -> np.ndarray:
         """The sole normal forces (2,) N the contact detector reads: the frame's foot force, or eq. (2)
         of :mod:`~gaitshift.control.estimation.torque_contact` on the last tick's state."""
         if self.torque_contact is not None:
-            return self._torque_forces(frame.tau_est, planned)
+            return self._torque_forces(frame.tau_est)
         if frame.foot_force is None:
             allowed = "the sole normal forces, N (or a controller with contact='torque')"
             raise InputError("SensorFrame.foot_force", None, allowed)
         return frame.foot_force
 
-    def _torque_forces(self, tau_est: np.ndarray, planned: np.ndarray) -> np.ndarray:
+    def _torque_forces(self, tau_est: np.ndarray) -> np.ndarray:
         """Eq. (2) of :mod:`~gaitshift.control.estimation.torque_contact` at the centre of the last
-        ``2 n + 1`` ticks (:class:`~gaitshift.control.estimation.torque_contact.AccelerationWindow`); a
-        leg that touches the robot itself there reads what the plan's flags ``planned`` (2,) say instead:
-        its share of the weight in the plan's stance, nothing in its swing."""
+        ``2 n + 1`` ticks (:class:`~gaitshift.control.estimation.torque_contact.AccelerationWindow`)."""
         window, contact = self._window, self.torque_contact
         assert window is not None and contact is not None
         window.push(self.cdata.qpos, self.cdata.qvel, tau_est)
         if not window.full:
             return self._force0.copy()
         d = window.centre_data(self.robot.model)
-        forces = contact.normal_forces(d, window.mean_torque(), window.acceleration())
-        held = contact.self_touching(d)  # a leg touching the robot itself: its reading is not its sole's
-        if held.any():
-            stance = np.asarray(planned, bool)
-            share = 2.0 * self._force0 / max(1, int(stance.sum()))  # the weight over the plan's stance soles
-            forces[held] = np.where(stance, share, 0.0)[held]
-        return forces
+        return contact.normal_forces(d, window.mean_torque(), window.acceleration())
 
     def sent(self, qdd: np.ndarray | None) -> None:
         """The command just sent planned the accelerations ``qdd`` (nv,) (None: the QP failed)."""

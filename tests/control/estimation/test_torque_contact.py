@@ -5,8 +5,7 @@ torques, its accelerations and its contact wrenches, so eq. (2) on those torques
 must give back the QP's normal forces (to the QP's tolerance), in double support at rest and in
 single support mid-walk (the swing sole then reads zero). With the torques of a robot hanging in the
 air (gravity compensation of the free legs only, nothing on the soles) both soles read zero. The
-leg dofs are the chain from the sole to the floating base; a leg touching the robot itself (a
-self-collision, whose force the equations would read as a sole's) is found.
+leg dofs are the chain from the sole to the floating base.
 """
 
 from __future__ import annotations
@@ -160,27 +159,3 @@ def test_a_torque_step_inside_the_window_reads_no_sole_force(ctrl):
         worst["uniform"] = max(worst["uniform"], *np.abs(contact.normal_forces(centre, uniform, acc)))
     assert worst["triangular"] < 1.0  # newtons: M, b and J vary a little over the window
     assert worst["uniform"] > 10 * worst["triangular"]
-
-
-def test_a_leg_touching_the_robot_itself_is_found(ctrl):
-    """The controller's model has no floor: every contact is a self-collision, whose force eq. (2) would
-    read as a sole force. Standing, none; the left thigh raised into the pelvis, the left leg; the left
-    leg rolled across the right one, both."""
-    from gaitshift.robots.model import standing_qpos
-
-    m = ctrl.robot.model
-    d = mujoco.MjData(m)
-    contact = TorqueContact(ctrl.robot)
-    q0 = standing_qpos(ctrl.robot)
-
-    def touching(joint: str | None = None, fraction: float = 0.0) -> list[bool]:
-        d.qpos[:] = q0
-        if joint is not None:
-            lo, hi = m.jnt_range[m.joint(joint).id]
-            d.qpos[m.jnt_qposadr[m.joint(joint).id]] = lo + fraction * (hi - lo)
-        mujoco.mj_forward(m, d)
-        return contact.self_touching(d).tolist()
-
-    assert touching() == [False, False]
-    assert touching("left_hip_pitch_joint", 0.0) == [True, False]  # the thigh at its lower limit: in the pelvis
-    assert touching("left_hip_roll_joint", 0.0) == [True, True]  # rolled inward across the right leg

@@ -72,7 +72,6 @@ class TorqueContact:
         if any(len(legs) < 3 for legs in self.legs):
             raise InputError("robot.soles", [len(legs) for legs in self.legs], "legs of at least 3 joints each")
         self.actuated = np.asarray(robot.actuated_dofs)
-        self.leg_bodies = [frozenset(int(m.dof_bodyid[d]) for d in legs) for legs in self.legs]
         self._jac = np.zeros((6, m.nv))
         self._r = np.zeros(m.nv)
         self._ma = np.zeros(m.nv)
@@ -95,19 +94,6 @@ class TorqueContact:
             mujoco.mj_jac(m, data, jac[:3], jac[3:], centre, self.robot.soles[s].body)
             wrench, *_ = np.linalg.lstsq(jac[:, dofs].T, r[dofs], rcond=None)  # (n_leg, 6) J_leg^T
             out[s] = float(wrench[:3] @ rot[:, 2])
-        return out
-
-    def self_touching(self, data: Any) -> np.ndarray:
-        """Whether each leg (2,) touches the robot itself in ``data`` (the controller's model after
-        ``mj_forward``: it has no floor, so every contact is a self-collision). Such a contact's force
-        acts on the leg's joints and eq. (2) would read it as a sole force (a fast turning run pushes
-        the G1's hip-roll link into its pelvis: 0.13 of the weight read on a sole in the air)."""
-        m = self.model
-        out = np.zeros(2, bool)
-        for c in data.contact[: data.ncon]:
-            bodies = {int(m.geom_bodyid[c.geom1]), int(m.geom_bodyid[c.geom2])}
-            for s in (0, 1):
-                out[s] |= bool(bodies & self.leg_bodies[s])
         return out
 
 
