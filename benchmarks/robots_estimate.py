@@ -21,7 +21,7 @@ from gaitshift.campaign.run import run_campaign
 from gaitshift.campaign.spec import load_spec
 from gaitshift.campaign.store import Store
 from gaitshift.scenario import load_scenario
-from gaitshift.wholebody.scaling import scale_factor, scale_scenario, scenario_yaml
+from gaitshift.wholebody.scaling import scaled_yaml, scenario_yaml
 
 ROBOTS = ("g1", "t1", "h1", "berkeley", "op3")
 SCENARIOS = ("walk", "run", "walk-run-walk", "tour")
@@ -35,10 +35,11 @@ def scenarios(folder: Path, robots: list[str]) -> list[str]:
         for name in SCENARIOS:
             path = folder / f"{robot}-{name}.yaml"
             if not path.exists():
-                sc = load_scenario(f"g1-{name}")
-                scaled = sc if robot == "g1" else scale_scenario(sc, robot)
-                header = f"{sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f}"
-                path.write_text(scenario_yaml(scaled, header, folder))
+                g1 = f"g1-{name}"  # the G1 runs the built-in as it is
+                text = (
+                    scenario_yaml(load_scenario(g1), g1, folder) if robot == "g1" else scaled_yaml(g1, robot, folder)[0]
+                )
+                path.write_text(text)
             names.append(f"scenarios/{path.name}")
     return names
 

@@ -28,3 +28,15 @@ def gaitshift(tmp_path, name, *argv):
     out, err = open(tmp_path / f"{name}.out", "w"), open(tmp_path / f"{name}.err", "w")  # noqa: SIM115
     env = {**os.environ, "MUJOCO_GL": "egl"}
     return subprocess.Popen([sys.executable, "-c", code, *argv], stdout=out, stderr=err, env=env), (out, err)
+
+
+def finish(proc, files, timeout=120.0):
+    """Wait up to ``timeout`` s for ``proc`` (killed if it is still running), then close ``files``."""
+    try:
+        proc.wait(timeout=timeout)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        for f in files:
+            f.close()

@@ -11,6 +11,7 @@ import time
 
 import numpy as np
 
+from dds_processes import finish
 from gaitshift.control.frames import SensorFrame
 from gaitshift.dds.convert import lowstate_from_frame
 from gaitshift.dds.crc import lowstate_crc
@@ -64,17 +65,6 @@ def script(proc, robot, make, timeout=90.0):
     return commands
 
 
-def finish(proc, files):
-    try:
-        proc.wait(timeout=60)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-        for f in files:
-            f.close()
-
-
 def test_a_nan_in_the_state_is_a_fault_and_bad_crcs_are_dropped(tmp_path):
     """States 3-5 each preceded by a copy with a wrong CRC: the copies dropped and counted, the run goes on.
     State 20 with q[3] = NaN: damping from that tick, exit 1, the line names LowState_.motor_state.q[3]."""
@@ -96,7 +86,7 @@ def test_a_nan_in_the_state_is_a_fault_and_bad_crcs_are_dropped(tmp_path):
     try:
         commands = script(proc, robot, make)
     finally:
-        finish(proc, files)
+        finish(proc, files, timeout=60.0)
     err = (tmp_path / "err").read_text().strip().splitlines()
     assert proc.returncode == 1, err
     assert err[-1].startswith("gaitshift: fault: state out of range: LowState_.motor_state.q[3] = nan"), err
@@ -113,7 +103,7 @@ def test_a_real_robot_holding_torque_at_start_is_refused(tmp_path):
     try:
         commands = script(proc, robot, lambda k: [state(k, tau=5.0)])
     finally:
-        finish(proc, files)
+        finish(proc, files, timeout=60.0)
     err = (tmp_path / "err").read_text().strip().splitlines()
     assert proc.returncode == 1
     assert err[-1].startswith("gaitshift: damping: refused: the robot is not damping or zero-torque"), err

@@ -16,22 +16,11 @@ import time
 import numpy as np
 import pytest
 
-from dds_processes import BRAIN_FLAGS, TINY, gaitshift
+from dds_processes import BRAIN_FLAGS, TINY, finish, gaitshift
 from gaitshift.dds.transport import open_endpoint
 
 #: offsets 30.. past test_robot_process.py's (0..29) on the same pid-derived base
 BASE_DOMAIN = 100 + os.getpid() % 90 + 30
-
-
-def finish(proc, files, timeout=120.0):
-    try:
-        proc.wait(timeout=timeout)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-        for f in files:
-            f.close()
 
 
 def start_pair(tmp_path, domain, *extra):

@@ -15,7 +15,7 @@ import time
 
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 
-from dds_processes import BRAIN_FLAGS, gaitshift
+from dds_processes import BRAIN_FLAGS, finish, gaitshift
 from gaitshift.dds.own_messages import CMD_VEL_TOPIC, ESTIMATE_TOPIC, Estimate_, VelocityCommand_
 from gaitshift.dds.transport import open_participant, topic_reader, topic_writer
 
@@ -30,17 +30,6 @@ commands:
   - {t: 0.0, vx: 0.0}
 stop_at: 30.0
 """
-
-
-def finish(proc, files, timeout=120.0):
-    try:
-        proc.wait(timeout=timeout)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-        for f in files:
-            f.close()
 
 
 def endpoints(participant, topic):

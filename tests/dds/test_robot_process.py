@@ -15,6 +15,7 @@ import time
 import numpy as np
 import pytest
 
+from dds_processes import finish
 from gaitshift.control.frames import MotorCommand
 from gaitshift.dds.convert import frame_from_lowstate, lowcmd_from_command
 from gaitshift.dds.crc import lowstate_crc
@@ -34,16 +35,6 @@ def start_robot(domain, tmp_path, *flags):
     env = {**os.environ, "MUJOCO_GL": "egl"}
     proc = subprocess.Popen([*argv, "--summary", str(summary), *flags], stdout=log, stderr=subprocess.STDOUT, env=env)
     return proc, summary, log
-
-
-def finish(proc, log, timeout=60.0):
-    try:
-        proc.wait(timeout=timeout)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-        log.close()
 
 
 def hold(frame, q0):
@@ -96,7 +87,7 @@ def test_lockstep_answers_each_command_counts_bad_crcs_and_holds_the_robot_up(tm
                 controller.writer.write(cmd)
                 good_sent += 1
     finally:
-        finish(proc, log)
+        finish(proc, [log], timeout=60.0)
     assert proc.returncode == 0, (tmp_path / "robot.log").read_text()
     s = json.loads(summary_path.read_text())
     assert s["ticks"] == 100 and s["sim_time"] == pytest.approx(0.2)
@@ -127,7 +118,7 @@ def test_real_time_damps_without_commands_and_writes_the_summary_on_sigterm(tmp_
         time.sleep(0.5)
         proc.send_signal(signal.SIGTERM)
     finally:
-        finish(proc, log)
+        finish(proc, [log], timeout=60.0)
     assert seen >= 50
     assert proc.returncode == 0, (tmp_path / "robot.log").read_text()
     s = json.loads(summary_path.read_text())

@@ -107,15 +107,14 @@ def scale_cmd(
 
     from gaitshift.common.atomic import atomic_path
     from gaitshift.scenario import load_scenario
-    from gaitshift.wholebody.scaling import scale_factor, scale_scenario, scenario_yaml
+    from gaitshift.wholebody.scaling import scaled_yaml
 
     out_file(out, "--out", (".yaml", ".yml"))
     sc = load_scenario(scenario)
-    scaled = scale_scenario(sc, robot, time_scale=time_scale)
-    header = f"{sc.name} scaled to robot {robot} by {scale_factor(sc, robot):.4f} (gaitshift scale)"
+    text, lam = scaled_yaml(sc, robot, out.parent, time_scale)
     with atomic_path(out) as tmp:
-        tmp.write_text(scenario_yaml(scaled, header, out.parent))
-    typer.echo(f"scaled {sc.name} by {scale_factor(sc, robot):.4f} for {robot} -> {out}")
+        tmp.write_text(text)
+    typer.echo(f"scaled {sc.name} by {lam:.4f} for {robot} -> {out}")
 
 
 robot_app = typer.Typer(

@@ -31,11 +31,11 @@ from pydantic import ValidationError
 
 from gaitshift.errors import InputError
 from gaitshift.robots import mjcf as _mj
-from gaitshift.robots.dimensions import com_height, foot_separation, leg_length
+from gaitshift.robots.dimensions import com_height, foot_roll, foot_separation, leg_length
 from gaitshift.robots.schema import RobotYaml
 from gaitshift.robots.sensors import ImuMount, RobotSensors, robot_sensors
 from gaitshift.robots.soles import SoleGeometry, common_size, sole_geometry
-from gaitshift.robots.standing import computed_standing_pose, guess_qpos
+from gaitshift.robots.standing import computed_standing_pose
 from gaitshift.scenario.facts import RobotFacts
 from gaitshift.scenario.fields import input_error
 from gaitshift.scenario.loader import yaml_mapping, yaml_text
@@ -282,30 +282,6 @@ def _leg_ids(model: Any, cfg: RobotYaml) -> list[list[int]]:
     return legs
 
 
-def _foot_roll(
-    model: Any, legs: list[list[int]], knees: list[int], soles: tuple[SoleGeometry, SoleGeometry], bodies: list[int]
-) -> tuple[bool, bool]:
-    """Whether each leg can roll its foot about the sole's x axis without moving the sole centre: the
-    sole twist (0, x_sole) is in the range of the leg's (6, n) Jacobian, knees bent (base fixed)."""
-    import mujoco
-
-    d = mujoco.MjData(model)
-    d.qpos[:] = guess_qpos(model, knees)
-    mujoco.mj_kinematics(model, d)
-    mujoco.mj_comPos(model, d)
-    jp, jr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
-    out = []
-    for leg, sole, b in zip(legs, soles, bodies, strict=True):
-        R = d.xmat[b].reshape(3, 3)
-        mujoco.mj_jac(model, d, jp, jr, d.xpos[b] + R @ sole.centre, b)
-        dofs = [int(model.jnt_dofadr[j]) for j in leg]
-        J = np.vstack([jp[:, dofs], jr[:, dofs]])
-        target = np.concatenate([np.zeros(3), R @ sole.rotation[:, 0]])
-        dq = np.linalg.lstsq(J, target, rcond=None)[0]
-        out.append(bool(np.linalg.norm(J @ dq - target) < 1e-6))
-    return out[0], out[1]
-
-
 @functools.lru_cache(maxsize=16)
 def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
     raw = yaml_mapping(text, "robot", source, "robot keys (name, mjcf, soles, ...)", InputError)
@@ -329,7 +305,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
     model = _compile(mjcf, sole_bodies, tuple(zip(offsets, sole_quats, strict=True)), False, None)
     legs = _leg_ids(model, cfg)
     knees = [model.joint(n).id for n in cfg.knees]
-    roll = _foot_roll(model, legs, knees, soles, bodies)  # type: ignore[arg-type]
+    roll = foot_roll(model, legs, knees, soles, bodies)  # type: ignore[arg-type]
     pose = dict(cfg.standing_pose)
     computed = not set(cfg.leg_joints) & set(pose)
     sites = (model.site(_mj.SOLE_SITES[0]).id, model.site(_mj.SOLE_SITES[1]).id)

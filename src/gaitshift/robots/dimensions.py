@@ -1,4 +1,4 @@
-"""What a robot's model measures about its legs: CoM height, foot separation and leg length (SI units).
+"""What a robot's model measures about its legs: CoM height, foot separation, leg length, foot roll (SI units).
 
 All three run MuJoCo's kinematics on a fresh ``MjData`` of the compiled model (with the sole sites of
 :func:`gaitshift.robots.mjcf.add_sole_sites`), base upright:
@@ -7,7 +7,8 @@ All three run MuJoCo's kinematics on a fresh ``MjData`` of the compiled model (w
   the mean height of the two sole centres, in a standing pose;
 * foot separation: lateral distance |y_L - y_R| of the two sole centres in that pose;
 * leg length: distance from the hip-pitch joint axis (``xanchor``) to the sole centre with every joint
-  at its ``qpos0`` value (leg straight), the shorter of the two legs.
+  at its ``qpos0`` value (leg straight), the shorter of the two legs;
+* foot roll: whether each leg can roll its foot about the sole's x axis (:func:`foot_roll`).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from gaitshift.robots import mjcf as _mj
+from gaitshift.robots.standing import guess_qpos
 
 
 def standing_data(model: Any, pose: tuple[tuple[str, float], ...]) -> tuple[Any, np.ndarray]:
@@ -57,3 +59,30 @@ def leg_length(model: Any, hips: tuple[str, str]) -> float:
         anchor = data.xanchor[model.joint(hip).id]
         legs.append(float(np.linalg.norm(anchor - data.site(_mj.SOLE_SITES[side]).xpos)))
     return min(legs)
+
+
+def foot_roll(
+    model: Any, legs: list[list[int]], knees: list[int], soles: tuple[Any, Any], bodies: list[int]
+) -> tuple[bool, bool]:
+    """Whether each leg can roll its foot about the sole's x axis without moving the sole centre: the
+    sole twist (0, x_sole) is in the range of the leg's (6, n) Jacobian, knees bent (base fixed).
+    ``legs``: per leg its joint ids; ``knees``: the knee joint ids; ``soles``: the
+    :class:`~gaitshift.robots.soles.SoleGeometry` pair; ``bodies``: the foot body ids (5-DOF legs such as
+    the H1's cannot)."""
+    import mujoco
+
+    d = mujoco.MjData(model)
+    d.qpos[:] = guess_qpos(model, knees)
+    mujoco.mj_kinematics(model, d)
+    mujoco.mj_comPos(model, d)
+    jp, jr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    out = []
+    for leg, sole, b in zip(legs, soles, bodies, strict=True):
+        R = d.xmat[b].reshape(3, 3)
+        mujoco.mj_jac(model, d, jp, jr, d.xpos[b] + R @ sole.centre, b)
+        dofs = [int(model.jnt_dofadr[j]) for j in leg]
+        J = np.vstack([jp[:, dofs], jr[:, dofs]])
+        target = np.concatenate([np.zeros(3), R @ sole.rotation[:, 0]])
+        dq = np.linalg.lstsq(J, target, rcond=None)[0]
+        out.append(bool(np.linalg.norm(J @ dq - target) < 1e-6))
+    return out[0], out[1]

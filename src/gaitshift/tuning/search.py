@@ -131,8 +131,7 @@ def tune(
 
 def _candidate_scenarios(work: Path, c: Candidate, text: str, base: Path, scenarios: Sequence[str]) -> list[str]:
     """Write the candidate's robot YAML and its scaled scenarios; their paths relative to ``work``."""
-    from gaitshift.scenario import load_scenario
-    from gaitshift.wholebody.scaling import scale_factor, scale_scenario, scenario_yaml
+    from gaitshift.wholebody.scaling import scaled_yaml
 
     folder = work / c.name
     folder.mkdir(parents=True, exist_ok=True)
@@ -143,10 +142,7 @@ def _candidate_scenarios(work: Path, c: Candidate, text: str, base: Path, scenar
     for name in scenarios:
         path = folder / f"{name}.yaml"
         if not path.exists():
-            sc = load_scenario(name)
-            path.write_text(
-                scenario_yaml(scale_scenario(sc, cfg), f"{name} scaled by {scale_factor(sc, cfg):.4f}", folder)
-            )
+            path.write_text(scaled_yaml(name, cfg, folder)[0])
         out.append(f"{c.name}/{path.name}")
     return out
 

@@ -267,3 +267,15 @@ def scenario_yaml(scenario: Any, header: str = "", folder: Path | None = None) -
 
     body = yaml.safe_dump(_round(data), sort_keys=False, default_flow_style=None, width=110, allow_unicode=True)
     return "".join(f"# {line}\n" for line in header.splitlines()) + body
+
+
+def scaled_yaml(
+    scenario: Any, robot: str | Path | RobotConfig, folder: Path, time_scale: str = "keep"
+) -> tuple[str, float]:
+    """The YAML text of ``scenario`` scaled to ``robot`` (:func:`scale_scenario`), for a file in
+    ``folder`` (:func:`scenario_yaml`), headed by what was scaled by how much; and the scale factor."""
+    sc = scenario if hasattr(scenario, "planner") else load_scenario(scenario)
+    lam = scale_factor(sc, robot)
+    label = robot.name if isinstance(robot, RobotConfig) else robot
+    header = f"{sc.name} scaled to robot {label} by {lam:.4f} (gaitshift scale)"
+    return scenario_yaml(scale_scenario(sc, robot, time_scale=time_scale), header, folder), lam
