@@ -1,6 +1,6 @@
 """What a robot's model measures about its legs: CoM height, foot separation, leg length, foot roll (SI units).
 
-All three run MuJoCo's kinematics on a fresh ``MjData`` of the compiled model (with the sole sites of
+Each runs MuJoCo's kinematics on a fresh ``MjData`` of the compiled model (with the sole sites of
 :func:`gaitshift.robots.mjcf.add_sole_sites`), base upright:
 
 * CoM height: height of the whole-body CoM (``subtree_com`` of the first body under the world) above
@@ -8,7 +8,7 @@ All three run MuJoCo's kinematics on a fresh ``MjData`` of the compiled model (w
 * foot separation: lateral distance |y_L - y_R| of the two sole centres in that pose;
 * leg length: distance from the hip-pitch joint axis (``xanchor``) to the sole centre with every joint
   at its ``qpos0`` value (leg straight), the shorter of the two legs;
-* foot roll: whether each leg can roll its foot about the sole's x axis (:func:`foot_roll`).
+* foot roll: whether each leg can roll its foot about the sole's x axis, knees bent (:func:`foot_roll`).
 """
 
 from __future__ import annotations
