@@ -51,3 +51,55 @@ def test_heavier_plant_weighs_more_on_the_floor_while_the_controller_keeps_its_m
     weight = 1.2 * mujoco.mj_getTotalmass(load_robot("g1").model()) * 9.81
     assert np.linalg.norm(a["com_vel"][-1]) < 0.05  # ended at rest
     assert np.mean(a["grf"][:, :, 2].sum(axis=1)) == pytest.approx(weight, rel=0.02)
+
+
+def test_a_base_com_offset_moves_the_whole_robots_com_by_the_bases_share_of_it():
+    """Mass-weighted mean: moving the base's CoM by c (base frame, base at identity) moves the robot's
+    CoM by (m_base / M) c; the nominal model keeps its CoM."""
+    from gaitshift.sim.perturb import perturbed_physics
+    from gaitshift.sim.plant import build_plant
+
+    plant = build_plant(0.002, "g1")
+    model, base = plant.model, plant.pelvis_body
+    c = np.array([0.04, -0.03, 0.01])
+    moved = perturbed_physics(model, 1.0, c, 1.0, base)
+    coms = []
+    for m in (model, moved):
+        d = mujoco.MjData(m)
+        d.qpos[:] = m.qpos0
+        d.qpos[3:7] = (1.0, 0.0, 0.0, 0.0)
+        mujoco.mj_forward(m, d)
+        coms.append(d.subtree_com[0].copy())
+    share = model.body_mass[base] / mujoco.mj_getTotalmass(model)
+    assert np.allclose(coms[1] - coms[0], share * c, atol=1e-12)
+    assert np.array_equal(model.body_ipos[base], build_plant(0.002, "g1").model.body_ipos[base])
+
+
+def test_motor_strength_scales_the_joint_torque_and_its_limit_but_not_tau_est():
+    """qfrc_actuator = k tau for a command inside the limit and k tau_max beyond it; the reported
+    actuator force (tau_est) is the command, as a driver with the nominal torque constant reports it."""
+    from gaitshift.sim.perturb import perturbed_physics
+    from gaitshift.sim.plant import build_plant
+
+    plant = build_plant(0.002, "g1")
+    model = plant.model
+    for k in (0.9, 1.1):
+        weak = perturbed_physics(model, 1.0, (0.0, 0.0, 0.0), k, plant.pelvis_body)
+        d = mujoco.MjData(weak)
+        limit = weak.actuator_ctrlrange[:, 1]
+        dofs = weak.jnt_dofadr[weak.actuator_trnid[:, 0]]
+        for cmd in (0.5 * limit, 2.0 * limit):
+            d.ctrl[:] = cmd
+            mujoco.mj_forward(weak, d)
+            assert np.allclose(d.qfrc_actuator[dofs], k * np.minimum(cmd, limit), rtol=1e-12)
+            assert np.allclose(d.actuator_force, np.minimum(cmd, limit), rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("key", "bad"), [("com_offset", (0.0, 0.5, 0.0)), ("com_offset", (0.0, 0.1)), ("com_offset", "abc"),
+                     ("motor_strength", 0.0), ("motor_strength", float("nan"))],
+)  # fmt: skip
+def test_sim_options_refuse_a_bad_com_offset_or_motor_strength(key, bad):
+    """Out of range or malformed: one InputError naming the field."""
+    with pytest.raises(InputError, match=key):
+        SimOptions(**{key: bad})

@@ -96,12 +96,14 @@ def test_joint_velocity_noise_adds_its_uniform_variance_to_the_sensors_only():
         SimOptions(joint_vel_noise=-1.0)
 
 
-def test_the_scenario_sim_block_takes_pushes_bumps_mass_and_noise():
+def test_the_scenario_sim_block_takes_pushes_bumps_mass_com_offset_strength_and_noise():
     from gaitshift.sim.scenario_run import scenario_options
 
     sim = SimSettings.model_validate(
         {
             "mass_scale": 1.1,
+            "com_offset": [0.02, -0.01, 0.0],
+            "motor_strength": 0.9,
             "joint_vel_noise": 0.5,
             "pushes": [{"t": 2.0, "impulse": [0.0, 15.0]}],
             "bumps": [{"x": 1.5, "height": 0.03}],
@@ -110,7 +112,10 @@ def test_the_scenario_sim_block_takes_pushes_bumps_mass_and_noise():
     kw = scenario_options(SimpleNamespace(sim=sim))
     opts = SimOptions(**kw)
     assert opts.mass_scale == 1.1 and opts.joint_vel_noise == 0.5
+    assert opts.com_offset == (0.02, -0.01, 0.0) and opts.motor_strength == 0.9
     assert opts.pushes == (Push(t=2.0, impulse=15.0, duration=0.1, direction=(0.0, 15.0)),)
     assert opts.bumps == (Bump(x=1.5, height=0.03, length=0.2),)
     with pytest.raises(ValueError):
         SimSettings.model_validate({"bumps": [{"x": 1.0, "height": 0.0}]})
+    with pytest.raises(ValueError):
+        SimSettings.model_validate({"com_offset": [0.0, 0.3, 0.0]})

@@ -2,8 +2,11 @@
 
 A case is one value per axis (:mod:`gaitshift.campaign.cases`); an axis the spec leaves out keeps
 its default. Units: speed m/s (the scenario's forward command, scaled), yaw rate rad/s, push impulse
-N s, push direction degrees in the ground plane (0 = +x forward, 90 = +y left: a lateral push), push
-time s of plan time, push duration s, mass scale (factor on the simulated robot's masses only),
+N s, or push velocity m/s (the impulse that changes the simulated robot's momentum by its mass
+times this speed, as the RL anchors state their pushes), push direction degrees in the ground plane
+(0 = +x forward, 90 = +y left: a lateral push), push time s of plan time, push duration s, mass
+scale (factor on the simulated robot's masses only), base CoM offset m (x, y, z in the base frame)
+and motor strength (factor on the motors' torque), the last three on the simulated robot only,
 friction (floor coefficient), latency ticks (sensing + actuation delay), noise (sensor noise profile)
 and its factor, state (what the controller sees), contact (its contact sensing), terrain (``flat`` only), seed.
 """
@@ -16,15 +19,17 @@ from typing import Any
 
 from gaitshift.errors import InputError
 from gaitshift.scenario.sim_settings import (
+    COM_OFFSET_RANGE,
     CONTACT_SOURCES,
     FRICTION_RANGE,
     LATENCY_RANGE,
+    MOTOR_STRENGTH_RANGE,
     NOISE_PROFILES,
     NOISE_SCALE_RANGE,
     STATE_SOURCES,
 )
 
-__all__ = ["AXES", "TERRAINS", "Axis", "check_value"]
+__all__ = ["AXES", "EXCLUSIVE", "TERRAINS", "Axis", "check_exclusive", "check_value"]
 
 #: terrains the simulator has today
 TERRAINS = ("flat",)
@@ -53,10 +58,15 @@ AXES: dict[str, Axis] = {
     "speed": Axis("float", None, "locomotion scenarios: largest forward command, m/s", 0.0, 20.0),
     "yaw_rate": Axis("float", None, "locomotion scenarios: yaw rate of every velocity command, rad/s", -20, 20),
     "push_impulse": Axis("float", 0.0, "impulse of one push on the pelvis, N s", 0.0, 1000.0),
+    "push_velocity": Axis("float", 0.0, "push as a base velocity change, m/s (impulse = mass x this)", 0.0, 10.0),
     "push_direction": Axis("float", 90.0, "push direction in the ground plane, deg (90 = +y)", -360, 360),
     "push_time": Axis("float", 1.5, "push start, s of plan time", 0.0, 3600.0),
     "push_duration": Axis("float", 0.1, "push duration, s", 0.002, 2.0),
     "mass_scale": Axis("float", 1.0, "factor on the simulated robot's masses", 0.25, 4.0),
+    "com_offset_x": Axis("float", 0.0, "simulated base CoM offset along base x, m", *COM_OFFSET_RANGE),
+    "com_offset_y": Axis("float", 0.0, "simulated base CoM offset along base y, m", *COM_OFFSET_RANGE),
+    "com_offset_z": Axis("float", 0.0, "simulated base CoM offset along base z, m", *COM_OFFSET_RANGE),
+    "motor_strength": Axis("float", 1.0, "factor on the simulated motors' torque", *MOTOR_STRENGTH_RANGE),
     "friction": Axis("float", None, "floor friction coefficient", *FRICTION_RANGE),
     "latency": Axis("int", 0, "actuation + sensing delay, ticks", *LATENCY_RANGE),
     "noise": Axis("str", "typical", "sensor noise profile", choices=NOISE_PROFILES),
@@ -91,3 +101,18 @@ def check_value(name: str, field: str, value: Any) -> Any:
     if not isinstance(value, str) or not value:
         raise InputError(field, value, "a non-empty string")
     return value
+
+
+#: axes that say the same thing two ways: a spec sweeps at most one of each group away from its default
+EXCLUSIVE = (("push_impulse", "push_velocity"),)
+
+
+def check_exclusive(values: dict[str, list[Any]]) -> None:
+    """:class:`InputError` when a spec sweeps two axes of one :data:`EXCLUSIVE` group (both not at
+    their defaults), naming the second."""
+    for group in EXCLUSIVE:
+        swept = [n for n in group if values[n] != [AXES[n].default]]
+        if len(swept) > 1:
+            raise InputError(
+                f"axes.{swept[1]}", values[swept[1]][0], f"no value beside axes.{swept[0]} (one of {group})"
+            )

@@ -1,4 +1,5 @@
-"""The cases of a campaign: the cartesian product of its axes, each with a stable hash.
+"""The cases of a campaign: the cartesian product of its axes (or a sample spec's random draws,
+:mod:`gaitshift.campaign.sampling`), each with a stable hash.
 
 A case is a plain dict (it crosses process boundaries; no MuJoCo object ever does): the task, the
 spec's run settings (``duration``, ``control_period``, ``reference_mode``, ``reference_rate``) and
@@ -15,7 +16,8 @@ import json
 import math
 from typing import Any
 
-from gaitshift.campaign.spec import CampaignSpec
+from gaitshift.campaign.sampling import draw_columns
+from gaitshift.campaign.spec import MAX_CASES, CampaignSpec
 from gaitshift.errors import InputError
 
 __all__ = ["LOCOMOTION_AXES", "case_hash", "expand", "settings_of"]
@@ -61,19 +63,16 @@ def _check_scenarios(spec: CampaignSpec, values: dict[str, list[Any]]) -> None:
             raise InputError("duration", spec.duration, f"no value unless every scenario is locomotion ({name})")
 
 
-#: the most cases a campaign may expand to (a spec beyond it is refused before anything is built)
-MAX_CASES = 1_000_000
-
-
 def expand(spec: CampaignSpec, check: bool = True) -> list[dict[str, Any]]:
-    """The cases of ``spec`` in product order (the last axis varies fastest), each with its
-    ``case_hash``; with ``check``, scenarios and robots are loaded once to validate them.
+    """The cases of ``spec`` in product order (the last axis varies fastest) or, for a sample spec,
+    in draw order, each with its ``case_hash``; with ``check``, scenarios and robots are loaded once
+    to validate them.
 
     Raises:
         InputError: a bad axis value, scenario or robot (see :meth:`CampaignSpec.axis_values`).
     """
     values = spec.axis_values()
-    count = math.prod(len(v) for v in values.values())
+    count = spec.sample.cases if spec.sample is not None else math.prod(len(v) for v in values.values())
     if count > MAX_CASES:
         sizes = " x ".join(f"{n} {len(v)}" for n, v in values.items() if len(v) > 1)
         raise InputError("axes", f"{count:.3g} cases ({sizes})", f"at most {MAX_CASES:,} cases per campaign")
@@ -81,8 +80,13 @@ def expand(spec: CampaignSpec, check: bool = True) -> list[dict[str, Any]]:
         _check_scenarios(spec, values)
     names = list(values)
     base = settings_of(spec)
+    if spec.sample is not None:
+        cols = draw_columns(spec, values)
+        combos: Any = zip(*(cols[n] for n in names), strict=True)
+    else:
+        combos = itertools.product(*(values[n] for n in names))
     cases = []
-    for combo in itertools.product(*(values[n] for n in names)):
+    for combo in combos:
         case = base | dict(zip(names, combo, strict=True))
         case["case_hash"] = case_hash(case)
         cases.append(case)

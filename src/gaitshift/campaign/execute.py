@@ -13,7 +13,9 @@ Metrics (simulate and closed-loop reference): ``fell``, ``t_fall`` (s of plan ti
 pelvis yaw error, rad), ``flight_ratio`` (achieved / planned flight), ``peak_torque_fraction`` (max
 |tau| / tau_max), ``joint_speed_fraction`` (max |q̇_j| / limit_j over joints with a limit; for plans:
 of the whole-body IK at 100 Hz), ``steps_completed`` / ``steps_planned``, ``plan_gaits`` (the gaits
-the plan uses, "walk", "run" or "walk+run"), ``legs_touch_time`` and ``feet_overlap_time`` (s the
+the plan uses, "walk", "run" or "walk+run"), ``fall_reason`` (what touched the floor),
+``fall_cause`` (crossing, slip, estimate, torque or reach, :mod:`gaitshift.sim.fall_cause`),
+``legs_touch_time`` and ``feet_overlap_time`` (s the
 two legs touched each other, :mod:`gaitshift.sim.leg_clearance`), ``plan_duration`` and
 ``sim_time`` (s), ``wall_time`` and ``cpu_time`` (s of this process for the whole case: elapsed, and
 CPU time of the process, which is what a shared machine's load does not inflate).
@@ -31,7 +33,7 @@ import numpy as np
 import gaitshift
 from gaitshift.errors import GaitshiftError
 
-__all__ = ["METRICS", "MOTIONS", "RUNNERS", "edited_scenario", "run_case"]
+__all__ = ["METRICS", "MOTIONS", "RUNNERS", "edited_scenario", "run_case", "sim_options"]
 
 #: result columns besides the case's parameters, and their Arrow types
 METRICS: dict[str, str] = {
@@ -50,6 +52,7 @@ METRICS: dict[str, str] = {
     "plan_duration": "float64",
     "sim_time": "float64",
     "fall_reason": "string",
+    "fall_cause": "string",
     "contact_accuracy": "float64",
     "base_vel_rmse": "float64",
     "tilt_rmse": "float64",
@@ -87,17 +90,20 @@ def edited_scenario(sc: Any, case: dict[str, Any]) -> Any:
     return type(sc).model_validate(data)
 
 
-def _sim_options(case: dict[str, Any]) -> dict[str, Any]:
+def sim_options(case: dict[str, Any], cfg: Any) -> dict[str, Any]:
     """The case's simulation options (None: the scenario's ``sim:`` key, else the default); a push of
-    the case replaces the scenario's pushes."""
+    the case replaces the scenario's pushes. A ``push_velocity`` v becomes the impulse ``s M v`` N s,
+    ``M`` the robot's mass (kg, from its model) and ``s`` the case's mass scale."""
     from gaitshift.sim.pushes import Push
 
-    keys = ("state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale", "contact")
+    keys = ("state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale", "contact", "motor_strength")
     out = {k: case[k] for k in keys} | {"control_period": case["control_period"]}
-    if case["push_impulse"] > 0:
+    out["com_offset"] = (case["com_offset_x"], case["com_offset_y"], case["com_offset_z"])
+    impulse = case["push_impulse"] + case["push_velocity"] * case["mass_scale"] * float(cfg.model().body_mass.sum())
+    if impulse > 0:
         a = math.radians(case["push_direction"])
         direction = (math.cos(a), math.sin(a))
-        out["pushes"] = (Push(case["push_time"], case["push_impulse"], case["push_duration"], direction),)
+        out["pushes"] = (Push(case["push_time"], impulse, case["push_duration"], direction),)
     return out
 
 
@@ -123,7 +129,7 @@ def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], 
     """Closed-loop run of the case: its metrics and the result (arrays for a reference motion)."""
     from gaitshift.sim.scenario_run import simulate_scenario
 
-    run = simulate_scenario(sc, cfg, **_sim_options(case))
+    run = simulate_scenario(sc, cfg, **sim_options(case, cfg))
     res = run.result
     m = res.metrics
     row = {
@@ -150,6 +156,7 @@ def _estimate_row(metrics: dict[str, Any]) -> dict[str, Any]:
     est = metrics.get("estimation") or {}
     return {
         "fall_reason": metrics.get("fall_reason") or None,
+        "fall_cause": metrics.get("fall_cause"),
         "contact_accuracy": _finite(est.get("contact_accuracy")),
         "base_vel_rmse": _finite(est.get("base_vel_rmse")),
         "tilt_rmse": _finite(est.get("tilt_rmse")),

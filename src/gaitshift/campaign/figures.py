@@ -1,7 +1,9 @@
 """Figures of a campaign: survival heatmaps over two axes and the fall-time histogram (PNG).
 
 Survival of a cell = cases that did not fall / cases run without an error, over every case whose two
-axis values are the cell's (the other axes pooled). Rows are plain dicts of the store's table.
+axis values are the cell's (the other axes pooled). An axis of more than :data:`MAX_LEVELS` distinct
+numbers (a sample spec's draws) is cut into :data:`BINS` bins of equal width, each named by its
+centre (:func:`levels`). Rows are plain dicts of the store's table.
 """
 
 from __future__ import annotations
@@ -13,12 +15,16 @@ import numpy as np
 
 from gaitshift.plots.files import save_figure
 
-__all__ = ["SurvivalGrid", "fall_time_histogram", "survival_grid", "survival_heatmap"]
+__all__ = ["BINS", "MAX_LEVELS", "SurvivalGrid", "fall_time_histogram", "levels", "survival_grid", "survival_heatmap"]
+
+#: an axis with more distinct numbers than this is binned; into this many bins
+MAX_LEVELS, BINS = 8, 5
 
 #: axis -> its label on a figure
 LABELS = {
     "speed": "commanded speed (m/s)",
     "push_impulse": "push impulse (N s)",
+    "push_velocity": "push (m/s of base velocity)",
     "mass_scale": "mass scale (plant / model)",
     "friction": "floor friction coefficient",
     "latency": "latency (ticks)",
@@ -39,19 +45,34 @@ def _ran(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return [r for r in rows if r["error"] is None and r["fell"] is not None]
 
 
+def levels(rows: list[dict[str, Any]], axis: str) -> tuple[list[Any], list[int | None]]:
+    """The levels of ``axis`` over ``rows`` and each row's level index (None: no value): its distinct
+    values, or :data:`BINS` equal-width bins (named by their centres, 3 significant digits) when it
+    has more than :data:`MAX_LEVELS` distinct numbers."""
+    vals = [r[axis] for r in rows]
+    distinct = sorted({v for v in vals if v is not None})
+    numeric = all(isinstance(v, int | float) and not isinstance(v, bool) for v in distinct)
+    if len(distinct) <= MAX_LEVELS or not numeric:
+        return distinct, [None if v is None else distinct.index(v) for v in vals]
+    lo, hi = float(distinct[0]), float(distinct[-1])
+    width = (hi - lo) / BINS
+    names = [float(f"{lo + (i + 0.5) * width:.3g}") for i in range(BINS)]
+    return names, [None if v is None else min(BINS - 1, int((v - lo) / width)) for v in vals]
+
+
 def survival_grid(rows: list[dict[str, Any]], x: str, y: str) -> SurvivalGrid | None:
-    """The survival over axes ``x`` and ``y``, or None unless both take two values or more."""
+    """The survival over axes ``x`` and ``y`` (:func:`levels`), or None unless both take two values
+    or more."""
     ok = _ran(rows)
-    xs = sorted({r[x] for r in ok if r[x] is not None})
-    ys = sorted({r[y] for r in ok if r[y] is not None})
+    xs, jx = levels(ok, x)
+    ys, iy = levels(ok, y)
     if len(xs) < 2 or len(ys) < 2:
         return None
     alive = np.zeros((len(ys), len(xs)))
     n = np.zeros((len(ys), len(xs)), dtype=int)
-    for r in ok:
-        if r[x] is None or r[y] is None:
+    for r, i, j in zip(ok, iy, jx, strict=True):
+        if i is None or j is None:
             continue
-        i, j = ys.index(r[y]), xs.index(r[x])
         n[i, j] += 1
         alive[i, j] += not r["fell"]
     rate = np.divide(alive, n, out=np.full(alive.shape, np.nan), where=n > 0)

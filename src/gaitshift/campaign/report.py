@@ -1,8 +1,10 @@
 """``gaitshift campaign report DIR``: the survival maps, fall times and per-robot table of a campaign.
 
 Writes into ``DIR/report/``: ``survival_speed_push.png`` (speed x push impulse),
-``survival_mass_friction.png`` (mass scale x friction), any other pair given, ``fall_times.png`` and
-``summary.md`` (the same maps as Markdown tables, the per-robot table and the run's totals). A map
+``survival_speed_push_velocity.png`` (speed x push as a velocity), ``survival_mass_friction.png``
+(mass scale x friction), ``fall_times.png`` and ``summary.md`` (the same maps as Markdown tables, the
+falls by cause, survival per axis and the worst cell of each pair of axes
+(:mod:`gaitshift.campaign.breakdown`), the per-robot table and the run's totals). A map
 is drawn only when both its axes take two values or more. Cases per hour per core = 3600 / the mean
 ``wall_time`` of one case in its worker (each worker runs one case at a time on one core).
 """
@@ -15,6 +17,7 @@ from typing import Any
 
 import yaml
 
+from gaitshift.campaign.breakdown import breakdown_markdown
 from gaitshift.campaign.figures import SurvivalGrid, fall_time_histogram, survival_grid, survival_heatmap
 from gaitshift.campaign.store import Store
 from gaitshift.common.atomic import atomic_path
@@ -23,7 +26,11 @@ from gaitshift.errors import InputError
 __all__ = ["MAPS", "robot_table", "write_report"]
 
 #: the survival maps: (x axis, y axis, file stem)
-MAPS = (("speed", "push_impulse", "survival_speed_push"), ("friction", "mass_scale", "survival_mass_friction"))
+MAPS = (
+    ("speed", "push_impulse", "survival_speed_push"),
+    ("speed", "push_velocity", "survival_speed_push_velocity"),
+    ("friction", "mass_scale", "survival_mass_friction"),
+)
 
 
 def _fmt(x: Any, spec: str = ".3f") -> str:
@@ -128,6 +135,7 @@ def write_report(folder: str | Path) -> list[Path]:
     if hist is not None:
         written.append(hist)
         md += ["", "## Fall times", "", "![fall_times](fall_times.png)"]
+    md += breakdown_markdown(rows)
     md += ["", "## Per robot", "", "| robot | cases | errors | survival % | median t_fall s | speed err m/s |"]
     md[-1] += " heading err rad | peak torque frac | joint speed frac |"
     md.append("|---|---|---|---|---|---|---|---|---|")

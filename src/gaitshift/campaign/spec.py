@@ -11,6 +11,15 @@ Example::
       push_impulse: {low: 0, high: 40, n: 8, seed: 1}   # a random sample (uniform)
       mass_scale: [0.9, 1.0, 1.2]
 
+With ``sample: {cases: N, seed: S}`` the cases are not the product of the axes but ``N`` random
+draws: each case takes, per axis, a uniform draw from its interval ``{low, high}`` (integers for
+integer axes) or a uniform choice from its list or range (:mod:`gaitshift.campaign.sampling`)::
+
+    sample: {cases: 2000, seed: 0}
+    axes:
+      speed: {low: 0.0, high: 2.0}
+      noise: [typical, rl-peer]
+
 The axis names are those of :data:`gaitshift.campaign.axes.AXES`. ``reference`` (task ``reference``)
 chooses the motion written per case: ``closed-loop`` (the simulated robot, physically consistent) or
 ``kinematic`` (the plan's whole-body IK), at ``rate`` Hz. Every error is one
@@ -26,12 +35,21 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import Field, Strict, ValidationError, model_validator
 
-from gaitshift.campaign.axes import AXES, check_value
+from gaitshift.campaign.axes import AXES, check_exclusive, check_value
 from gaitshift.errors import InputError
 from gaitshift.scenario.fields import StrictModel, input_error
 from gaitshift.scenario.loader import yaml_mapping, yaml_text
 
-__all__ = ["CampaignSpec", "RangeAxis", "ReferenceSettings", "SampleAxis", "axis_list", "load_spec"]
+__all__ = [
+    "CampaignSpec",
+    "RangeAxis",
+    "ReferenceSettings",
+    "SampleAxis",
+    "SampleSettings",
+    "axis_list",
+    "is_interval",
+    "load_spec",
+]
 
 Num = Annotated[float, Strict(), Field(allow_inf_nan=False)]
 #: at most this many values on one axis
@@ -81,6 +99,11 @@ class SampleAxis(StrictModel):
         return [float(v) for v in rng.uniform(self.low, self.high, self.n)]
 
 
+def is_interval(given: Any) -> bool:
+    """True when an axis is given as an interval ``{low, high}`` (a sample spec's per-case draw)."""
+    return isinstance(given, dict) and set(given) == {"low", "high"}
+
+
 def axis_list(name: str, given: Any) -> list[Any]:
     """The raw values of axis ``name`` as the spec gives them: a list, a range mapping (start, stop,
     step) or a sample mapping (low, high, n, seed).
@@ -107,6 +130,17 @@ class ReferenceSettings(StrictModel):
     rate: Annotated[float, Strict(), Field(gt=0, le=1000, allow_inf_nan=False)] = 50.0
 
 
+#: the most cases a campaign may expand to (a spec beyond it is refused before anything is built)
+MAX_CASES = 1_000_000
+
+
+class SampleSettings(StrictModel):
+    """Random sampling instead of the product: ``cases`` draws with ``seed`` (module docstring)."""
+
+    cases: Annotated[int, Strict(), Field(ge=1, le=MAX_CASES)]
+    seed: Annotated[int, Strict(), Field(ge=0, le=2**32 - 1)] = 0
+
+
 class CampaignSpec(StrictModel):
     """A campaign (module docstring). ``base`` is the folder relative scenario paths are read from."""
 
@@ -117,10 +151,12 @@ class CampaignSpec(StrictModel):
     duration: Annotated[float, Strict(), Field(gt=0, le=3600, allow_inf_nan=False)] | None = None
     control_period: Annotated[float, Strict(), Field(ge=5e-4, le=0.01, allow_inf_nan=False)] = 0.002
     reference: ReferenceSettings = ReferenceSettings()
+    sample: SampleSettings | None = None
     base: str = "."
 
     def axis_values(self) -> dict[str, list[Any]]:
-        """Every axis (registry order) -> its checked values; axes not in the spec: [default].
+        """Every axis (registry order) -> its checked values; axes not in the spec: [default]; an
+        interval of a sample spec: its two ends.
 
         Raises:
             InputError: an unknown axis, an empty list, or a value outside its axis's range.
@@ -134,12 +170,25 @@ class CampaignSpec(StrictModel):
             if given is None:
                 out[name] = [AXES[name].default]
                 continue
-            raw = axis_list(name, given)
+            raw = self._interval(name, given) if is_interval(given) else axis_list(name, given)
             if not raw:
                 raise InputError(f"axes.{name}", [], "a non-empty list of values (an empty axis has no case)")
             vals = [check_value(name, f"axes.{name}[{i}]", v) for i, v in enumerate(raw)]
             out[name] = list(dict.fromkeys(vals))  # duplicates would be the same case
+        check_exclusive(out)
         return out
+
+    def _interval(self, name: str, given: dict[str, Any]) -> list[Any]:
+        """The ends [low, high] of an interval axis (sample specs only, numeric axes only)."""
+        field = f"axes.{name}"
+        if self.sample is None:
+            raise InputError(field, given, "a list, a range {start, stop, step} or a sample {low, high, n, seed}")
+        if AXES[name].kind == "str":
+            raise InputError(field, given, "a list of values (a text axis has no interval)")
+        low, high = given["low"], given["high"]
+        if isinstance(low, int | float) and isinstance(high, int | float) and high < low:
+            raise InputError(f"{field}.high", high, f"a number >= low ({low})")
+        return [low, high]
 
     def scenario_path(self, scenario: str) -> str:
         """A scenario value as given to the loader: a YAML path relative to ``base``, or a name."""

@@ -9,6 +9,8 @@ Perturbations (issue 13; the controller is never told them)::
 
     sim:
       mass_scale: 1.1            # masses of the simulated robot only
+      com_offset: [0.02, -0.01, 0]   # m, the base's centre of mass in the simulated robot only
+      motor_strength: 0.9        # factor on the simulated motors' torque and torque limit
       joint_vel_noise: 0.5       # rad/s, extra uniform joint-velocity sensor noise
       pushes: [{t: 2.0, impulse: [0, 15, 0], duration: 0.1}]   # N s, world frame, from plan time t
       bumps: [{x: 1.5, height: 0.03, length: 0.2}]             # m, box on the floor from x
@@ -39,6 +41,10 @@ NOISE_SCALE_RANGE = (0.0, 1000.0)
 LATENCY_RANGE = (0, 50)
 #: mass scale factor of the simulated robot, inclusive (the simulator checks the same range)
 MASS_SCALE_RANGE = (0.25, 4.0)
+#: offset of the floating base's centre of mass in the simulated robot, m per axis, inclusive
+COM_OFFSET_RANGE = (-0.2, 0.2)
+#: factor on the simulated motors' torque (and torque limit), inclusive
+MOTOR_STRENGTH_RANGE = (0.25, 2.0)
 
 
 def check_friction(field: str, mu: Any) -> None:
@@ -84,6 +90,14 @@ class SimSettings(StrictModel):
     seed: Annotated[int, Strict(), Field(ge=0, le=2**32 - 1)] | None = None
     mass_scale: (
         Annotated[float, Strict(), Field(ge=MASS_SCALE_RANGE[0], le=MASS_SCALE_RANGE[1], allow_inf_nan=False)] | None
+    ) = None
+    com_offset: (
+        list[Annotated[float, Strict(), Field(ge=COM_OFFSET_RANGE[0], le=COM_OFFSET_RANGE[1], allow_inf_nan=False)]]
+        | None
+    ) = Field(default=None, min_length=3, max_length=3)
+    motor_strength: (
+        Annotated[float, Strict(), Field(ge=MOTOR_STRENGTH_RANGE[0], le=MOTOR_STRENGTH_RANGE[1], allow_inf_nan=False)]
+        | None
     ) = None
     joint_vel_noise: Annotated[float, Strict(), Field(ge=0, le=100, allow_inf_nan=False)] | None = None
     pushes: list[PushSettings] | None = None

@@ -44,7 +44,7 @@ from gaitshift.sim.latency import CommandDelay
 from gaitshift.sim.leg_clearance import LegClearance
 from gaitshift.sim.log import EstimationLog, TickLog
 from gaitshift.sim.metrics import summarize
-from gaitshift.sim.perturb import check_joint_vel_noise, check_mass_scale
+from gaitshift.sim.perturb import check_com_offset, check_joint_vel_noise, check_mass_scale, check_motor_strength
 from gaitshift.sim.plant import Plant, build_plant
 from gaitshift.sim.pushes import Push
 from gaitshift.sim.result import SimResult
@@ -92,6 +92,8 @@ class SimOptions:
         estimator: base filter of the state estimator; seed: seed of every random draw of the run.
         mass_scale: factor on the masses and inertias of the simulated robot only; the controller keeps
             the nominal model (:mod:`gaitshift.sim.perturb`).
+        com_offset: (3,) m, the simulated base's centre of mass moved in the base frame (the truth only).
+        motor_strength: factor on the simulated motors' torque and torque limit (the truth only).
         joint_vel_noise: extra uniform noise on the joint velocities the drivers report, rad/s
             half-width (:mod:`gaitshift.sim.perturb`; estimated state only).
         bumps: boxes on the floor of the simulated world only (:mod:`gaitshift.sim.bumps`; ignored
@@ -130,6 +132,8 @@ class SimOptions:
     estimator: str = "inekf"
     seed: int = 0
     mass_scale: float = 1.0
+    com_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    motor_strength: float = 1.0
     joint_vel_noise: float = 0.0
     bumps: tuple[Bump, ...] = ()
     contact: str | None = "force"
@@ -142,6 +146,8 @@ class SimOptions:
         CommandDelay.check(self.latency)
         check_video(self.video_size, self.video_fps)
         check_mass_scale(self.mass_scale)
+        object.__setattr__(self, "com_offset", check_com_offset(self.com_offset))  # a list from YAML: a tuple
+        check_motor_strength(self.motor_strength)
         check_joint_vel_noise(self.joint_vel_noise)
         check_bumps(self.bumps)
 
@@ -247,6 +253,8 @@ class _Run:
             "pushes": [asdict(p) for p in opts.pushes],
             "bumps": [asdict(b) for b in opts.bumps],
             "mass_scale": opts.mass_scale,
+            "com_offset": list(opts.com_offset),
+            "motor_strength": opts.motor_strength,
             "joint_vel_noise": opts.joint_vel_noise,
             "settle": opts.settle,
             "replans": ctrl.driver.replans if ctrl.driver is not None else 0,

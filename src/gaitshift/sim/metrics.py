@@ -16,6 +16,8 @@
 * peak |tau| / tau_max over all joints and ticks;
 * ``legs_touch_time`` and ``feet_overlap_time``: how long the two legs touched each other, s
   (:mod:`gaitshift.sim.leg_clearance`);
+* ``fall_cause``: crossing, slip, estimate, torque or reach (:mod:`gaitshift.sim.fall_cause`), None
+  without a fall;
 * real-time factor = simulated time / wall time.
 """
 
@@ -27,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from gaitshift.common.runs import true_runs
+from gaitshift.sim.fall_cause import fall_cause
 from gaitshift.sim.result import SimResult
 from gaitshift.sim.tracking import heading_errors, stride_speed_errors
 from gaitshift.trajectory.contract import FLIGHT, Trajectory
@@ -163,6 +166,7 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
         "fell": bool(result.fell),
         "fall_time": float(result.fall_time) if result.fell else None,
         "fall_reason": result.fall_reason,
+        "fall_cause": None,
         "steps_planned": len(land),
         "steps_completed": 0,
         "peak_torque_fraction": 0.0,
@@ -179,6 +183,8 @@ def summarize(result: SimResult, traj: Trajectory, torque_limit: np.ndarray) -> 
     out["steps_planned"] = len(land)
     out["steps_completed"] = int(np.sum(traj.t[land] <= t_end))
     dt = _period(result)
+    if result.fell:
+        out["fall_cause"] = fall_cause(a, float(result.fall_time), torque_limit, dt)
     out.update(_flight(a, traj, land, t_end, dt))
     errs = _speed_errors(a, traj, t_end)
     out["speed_errors"] = errs
@@ -214,7 +220,9 @@ def format_metrics(metrics: dict[str, Any]) -> str:
     """The summary as a two-column text table."""
     rows = [("fell", "yes" if metrics["fell"] else "no")]
     if metrics["fell"]:
-        rows.append(("fall time (s)", f"{metrics.get('fall_time') or 0.0:.3f}  ({metrics.get('fall_reason', '')})"))
+        cause = metrics.get("fall_cause")
+        why = metrics.get("fall_reason", "") + (f"; cause: {cause}" if cause else "")
+        rows.append(("fall time (s)", f"{metrics.get('fall_time') or 0.0:.3f}  ({why})"))
     rows.append(("steps completed", f"{metrics.get('steps_completed', 0)} / {metrics.get('steps_planned', 0)}"))
     for g, r in metrics.get("com_rms", {}).items():
         rows.append((f"CoM RMS {g} x/y/z (cm)", " / ".join(f"{100 * v:.2f}" for v in r)))

@@ -28,7 +28,7 @@ from gaitshift.control.settings import contact_source
 from gaitshift.models.terrain import Terrain
 from gaitshift.sim.contacts import ContactSensor, FootContacts, fall_reason
 from gaitshift.sim.latency import CommandDelay
-from gaitshift.sim.perturb import scaled_masses, with_joint_vel_noise
+from gaitshift.sim.perturb import perturbed_physics, with_joint_vel_noise
 from gaitshift.sim.plant import Plant
 from gaitshift.sim.pushes import push_forces
 from gaitshift.sim.sensors import Readings, SensorModel
@@ -67,7 +67,10 @@ class World:
 
     def __init__(self, plant: Plant, qpos0: np.ndarray, opts: Any, oracle: bool, n_ticks: int) -> None:
         self.plant, self.opts, self.oracle = plant, opts, oracle
-        self.physics = scaled_masses(plant.model, opts.mass_scale)  # the truth; the controller: nominal
+        # the truth; the controller keeps the nominal model
+        self.physics = perturbed_physics(
+            plant.model, opts.mass_scale, opts.com_offset, opts.motor_strength, plant.pelvis_body
+        )
         self.d = mujoco.MjData(plant.model)
         self.d.qpos[:] = qpos0
         mujoco.mj_forward(plant.model, self.d)

@@ -1,0 +1,84 @@
+"""Where a campaign's robot falls and why: survival per axis, the worst cell of every pair of axes,
+and the falls counted by cause (the report's tables, :mod:`gaitshift.campaign.report`).
+
+Survival of a level = cases that did not fall / cases run without an error at that level of the axis
+(every other axis pooled); numbers drawn at random are binned (:func:`gaitshift.campaign.figures.levels`).
+A pair's worst cell is the (x, y) level pair of lowest survival among the cells with at least
+:data:`MIN_CELL` cases. Causes: the ``fall_cause`` column (:mod:`gaitshift.sim.fall_cause`).
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections import Counter
+from typing import Any
+
+from gaitshift.campaign.axes import AXES
+from gaitshift.campaign.figures import levels, survival_grid
+
+__all__ = ["MIN_CELL", "axis_survival", "breakdown_markdown", "cause_counts", "swept_axes", "worst_cells"]
+
+#: the fewest cases a cell needs to be the worst of its pair
+MIN_CELL = 10
+
+
+def _ran(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    return [r for r in rows if r["error"] is None and r["fell"] is not None]
+
+
+def swept_axes(rows: list[dict[str, Any]]) -> list[str]:
+    """The axes (registry order) that take two values or more over ``rows``."""
+    return [a for a in AXES if len({r[a] for r in rows if r[a] is not None}) > 1]
+
+
+def axis_survival(rows: list[dict[str, Any]], axis: str) -> list[tuple[Any, int, float]]:
+    """Per level of ``axis``: (level, cases, survival fraction) over the cases run without an error."""
+    ok = _ran(rows)
+    names, index = levels(ok, axis)
+    out = []
+    for i, name in enumerate(names):
+        mine = [r for r, k in zip(ok, index, strict=True) if k == i]
+        if mine:
+            out.append((name, len(mine), sum(not r["fell"] for r in mine) / len(mine)))
+    return out
+
+
+def worst_cells(rows: list[dict[str, Any]]) -> list[tuple[str, str, Any, Any, int, float]]:
+    """Per pair of swept axes: (x, y, x level, y level, cases, survival) of its worst cell with at
+    least :data:`MIN_CELL` cases, lowest survival first."""
+    out = []
+    for x, y in itertools.combinations(swept_axes(rows), 2):
+        g = survival_grid(rows, x, y)
+        if g is None:
+            continue
+        cells = [(g.rate[i, j], i, j) for i in range(len(g.ys)) for j in range(len(g.xs)) if g.n[i, j] >= MIN_CELL]
+        if cells:
+            rate, i, j = min(cells)
+            out.append((x, y, g.xs[j], g.ys[i], int(g.n[i, j]), float(rate)))
+    return sorted(out, key=lambda c: c[-1])
+
+
+def cause_counts(rows: list[dict[str, Any]]) -> Counter[str]:
+    """Falls per cause ("unclassified" for a fall without one)."""
+    return Counter(str(r.get("fall_cause") or "unclassified") for r in _ran(rows) if r["fell"])
+
+
+def _fmt_level(v: Any) -> str:
+    return f"{v:g}" if isinstance(v, int | float) and not isinstance(v, bool) else str(v)
+
+
+def breakdown_markdown(rows: list[dict[str, Any]], pairs: int = 12) -> list[str]:
+    """The three tables in Markdown: causes, survival per axis, the ``pairs`` worst pair cells."""
+    md = ["", "## Falls by cause", "", "| cause | falls | share of falls |", "|---|---|---|"]
+    causes = cause_counts(rows)
+    total = sum(causes.values())
+    md += [f"| {c} | {n} | {100 * n / total:.0f} % |" for c, n in causes.most_common()] or ["| - | 0 | - |"]
+    md += ["", "## Survival per axis (other axes pooled)", ""]
+    for axis in swept_axes(rows):
+        cells = axis_survival(rows, axis)
+        md.append(f"- `{axis}`: " + ", ".join(f"{_fmt_level(v)}: {100 * s:.0f} % ({n})" for v, n, s in cells))
+    md += ["", f"## The worst cell of each pair of axes (cells of >= {MIN_CELL} cases; worst {pairs})", ""]
+    md += ["| x | y | x level | y level | cases | survival |", "|---|---|---|---|---|---|"]
+    for x, y, xv, yv, n, s in worst_cells(rows)[:pairs]:
+        md.append(f"| {x} | {y} | {_fmt_level(xv)} | {_fmt_level(yv)} | {n} | {100 * s:.0f} % |")
+    return md
