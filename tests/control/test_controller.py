@@ -76,7 +76,8 @@ def test_the_start_pose_stands_on_the_first_footholds(ctrl):
 @pytest.mark.parametrize(
     ("field", "value"),
     [("q", np.zeros(3)), ("dq", [np.nan] * 29), ("imu_quat", [0.0, 0.0, 0.0, 0.0]), ("imu_gyro", "fast"),
-     ("t", -1.0), ("foot_force", [1.0, 2.0, 3.0])],
+     ("t", -1.0), ("foot_force", [1.0, 2.0, 3.0]), ("depth_points", np.zeros((4, 2))),
+     ("depth_points", [[0.0, np.inf, 1.0]]), ("depth_points", "cloud")],
 )  # fmt: skip
 def test_a_bad_frame_is_one_input_error_naming_its_field(ctrl, field, value):
     good = _rest_frame(ctrl)

@@ -26,9 +26,13 @@ def _ran(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return [r for r in rows if r["error"] is None and r["fell"] is not None]
 
 
+#: axes that are not conditions of the robot (a run's random draws): left out of the tables
+NOT_CONDITIONS = ("seed",)
+
+
 def swept_axes(rows: list[dict[str, Any]]) -> list[str]:
-    """The axes (registry order) that take two values or more over ``rows``."""
-    return [a for a in AXES if len({r[a] for r in rows if r[a] is not None}) > 1]
+    """The axes (registry order, but :data:`NOT_CONDITIONS`) that take two values or more over ``rows``."""
+    return [a for a in AXES if a not in NOT_CONDITIONS and len({r[a] for r in rows if r[a] is not None}) > 1]
 
 
 def axis_survival(rows: list[dict[str, Any]], axis: str) -> list[tuple[Any, int, float]]:

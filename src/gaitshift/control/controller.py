@@ -39,6 +39,7 @@ from gaitshift.control.estimation.noise import noise_profile
 from gaitshift.control.feedback import PlanShift, SwingContext
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.control.initial_pose import initial_qpos
+from gaitshift.control.perception import Perceiver
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.control.reference import tick_reference
 from gaitshift.control.replanner import replanner
@@ -132,6 +133,8 @@ class Controller:
             contact_source(s.contact, robot.robot),
         )
         self.record: TickRecord | None = None
+        cam = robot.robot.sensors.depth_camera
+        self.perceiver = None if cam is None else Perceiver(robot.model, cam)  # the elevation map
 
     @classmethod
     def from_scenario(
@@ -237,6 +240,8 @@ class Controller:
         tp = self.plan_time(frame.t)
         planned = self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)]  # the plan's flags
         view = self.state.observe(frame, planned)
+        if frame.depth_points is not None and self.perceiver is not None:
+            self.perceiver.frame(frame.t, frame.depth_points, view.data, self.state.position_std() ** 2)
         i = self._plan_index(tp, view)
         tau, ref, info = self._control(tp, i, view)
         self.state.sent(info.qdd)

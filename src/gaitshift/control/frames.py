@@ -37,6 +37,20 @@ def _vector(field: str, value: Any, size: int | None, allowed: str) -> np.ndarra
     return a
 
 
+def _points(value: Any) -> np.ndarray | None:
+    """``value`` as an (M, 3) finite float array (M >= 0), or None."""
+    if value is None:
+        return None
+    allowed = "an (M, 3) array of finite points, m (camera frame)"
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("SensorFrame.depth_points", _short(value), allowed) from None
+    if a.ndim != 2 or a.shape[1] != 3 or not np.all(np.isfinite(a)):
+        raise InputError("SensorFrame.depth_points", f"shape {a.shape}", allowed)
+    return a
+
+
 def _short(value: Any) -> str:
     text = np.array2string(np.asarray(value, dtype=object).ravel()[:8], separator=", ") if value is not None else "None"
     return text if len(text) < 120 else text[:117] + "..."
@@ -70,6 +84,8 @@ class SensorFrame:
         imu_gyro: (3,) rad/s, IMU frame. imu_acc: (3,) m/s^2 specific force, IMU frame.
         q: (n,) rad, dq: (n,) rad/s, tau_est: (n,) N m, per motor in ``motor_names`` order.
         foot_force: (2,) N normal force per sole (left, right), or None: the robot has no such sensor.
+        depth_points: (M, 3) m, a depth camera's frame as points in the camera frame (the robot YAML's
+            ``sensors.depth_camera``), or None: no new frame this tick (or no camera).
         oracle: the world's truth, or None (module :class:`OracleState`).
     """
 
@@ -81,6 +97,7 @@ class SensorFrame:
     dq: np.ndarray
     tau_est: np.ndarray
     foot_force: np.ndarray | None = None
+    depth_points: np.ndarray | None = None
     oracle: OracleState | None = None
 
     @classmethod
@@ -101,10 +118,13 @@ class SensorFrame:
             )
         force = fields.get("foot_force")
         out["foot_force"] = None if force is None else _vector("SensorFrame.foot_force", force, 2, "2 finite forces, N")
+        out["depth_points"] = _points(fields.get("depth_points"))
         unknown = set(fields) - {*out, "oracle"}
         if unknown:
             raise InputError(
-                "SensorFrame", sorted(unknown)[0], "t, imu_quat, imu_gyro, imu_acc, q, dq, tau_est, foot_force"
+                "SensorFrame",
+                sorted(unknown)[0],
+                "t, imu_quat, imu_gyro, imu_acc, q, dq, tau_est, foot_force, depth_points",
             )
         return cls(oracle=fields.get("oracle"), **out)
 

@@ -33,7 +33,7 @@ from gaitshift.errors import InputError
 from gaitshift.robots import mjcf as _mj
 from gaitshift.robots.dimensions import com_height, foot_roll, foot_separation, leg_length
 from gaitshift.robots.schema import RobotYaml
-from gaitshift.robots.sensors import ImuMount, RobotSensors, robot_sensors
+from gaitshift.robots.sensors import RobotSensors, robot_sensors
 from gaitshift.robots.soles import SoleGeometry, common_size, sole_geometry
 from gaitshift.robots.standing import computed_standing_pose
 from gaitshift.scenario.facts import RobotFacts
@@ -152,7 +152,7 @@ class RobotConfig:
 
         ``scene=True`` adds a floor, a light and a larger offscreen buffer for rendering.
         """
-        return _compile(self.mjcf, self.sole_bodies, self._site_poses(), scene, self.sensors.imu)
+        return _compile(self.mjcf, self.sole_bodies, self._site_poses(), scene, self.sensors)
 
     @property
     def imu_site(self) -> str:
@@ -163,10 +163,10 @@ class RobotConfig:
         return tuple(zip(self.sole_offsets, self.sole_quats, strict=True))
 
     def add_sites(self, spec: Any) -> None:
-        """Add the sole sites and, for a body-mounted IMU, the IMU site to an ``MjSpec`` of this robot's
-        MJCF (the plant builds its own model)."""
+        """Add the sole sites and the sensors' sites (a body-mounted IMU, a depth camera) to an
+        ``MjSpec`` of this robot's MJCF (the plant builds its own model)."""
         _mj.add_sole_sites(spec, self.mjcf, self.sole_bodies, self._site_poses())
-        self.sensors.imu.add_site(spec)
+        self.sensors.add_sites(spec)
 
     def standing_qpos(self, model: Any = None) -> np.ndarray:
         """qpos of the standing pose: base at the origin, upright, joints from ``standing_pose``."""
@@ -373,12 +373,12 @@ def _sole_quats(cfg: RobotYaml) -> tuple[Any, Any]:
 
 @functools.lru_cache(maxsize=8)
 def _compile(
-    mjcf: Path, sole_bodies: tuple[str, str], poses: tuple[Any, ...], scene: bool, imu: ImuMount | None
+    mjcf: Path, sole_bodies: tuple[str, str], poses: tuple[Any, ...], scene: bool, sensors: RobotSensors | None
 ) -> Any:
     spec = _mj.load_spec(mjcf)
     _mj.add_sole_sites(spec, mjcf, sole_bodies, poses)
-    if imu is not None:
-        imu.add_site(spec)
+    if sensors is not None:
+        sensors.add_sites(spec)
     if scene:
         _mj.add_render_scene(spec)
     return spec.compile()

@@ -31,8 +31,9 @@
                        ``torso_cost``, ``arm_cost`` (fields of ``gaitshift.wholebody.ik.IKSettings``)
 ``sensors``            (optional) the IMU frame, ``imu: {site: <site>}`` or ``imu: {body: <body>,
                        pos: [x, y, z], quat: [w, x, y, z]}`` (default: the floating base's origin), and
-                       ``foot_force`` (default false): whether the soles measure force
-                       (:mod:`gaitshift.robots.sensors`)
+                       ``foot_force`` (default false): whether the soles measure force, and
+                       ``depth_camera`` (optional): a depth camera's mount, field of view, pixels,
+                       range, rate, noise and dropout (:mod:`gaitshift.robots.sensors`)
 ``gait``               (optional) how a scenario is scaled to this robot (:mod:`gaitshift.wholebody.scaling`):
                        ``flight_scale`` (0 < s <= 1) multiplies the TV-LIPM flight time of running steps
                        (a weaker robot lands softer: touchdown speed g T_f / 2); ``step_width`` (m) is the
@@ -117,11 +118,39 @@ class Imu(StrictModel):
         return self
 
 
+FovAngle = Annotated[float, Strict(), Field(gt=0, lt=3.1, allow_inf_nan=False)]
+Pixels = Annotated[int, Strict(), Field(ge=1, le=256)]
+NonNegative = Annotated[float, Strict(), Field(ge=0, le=10, allow_inf_nan=False)]
+
+
+class DepthCameraSettings(StrictModel):
+    """A depth camera (``sensors.depth_camera``; :class:`gaitshift.robots.sensors.DepthCamera`)."""
+
+    body: str
+    pos: tuple[Real, Real, Real] = (0.0, 0.0, 0.0)
+    quat: tuple[QuatPart, QuatPart, QuatPart, QuatPart] = (1.0, 0.0, 0.0, 0.0)
+    fov: tuple[FovAngle, FovAngle]
+    pixels: tuple[Pixels, Pixels] = (32, 24)
+    range: tuple[Length, Length]
+    rate: Annotated[float, Strict(), Field(gt=0, le=1000, allow_inf_nan=False)] = 30.0
+    noise: tuple[NonNegative, NonNegative] = (0.0, 0.0)
+    dropout: Annotated[float, Strict(), Field(ge=0, lt=1, allow_inf_nan=False)] = 0.0
+
+    @model_validator(mode="after")
+    def _ordered(self) -> DepthCameraSettings:
+        if not self.range[0] < self.range[1]:
+            raise ValueError(f"range [min, max] with min < max (got {list(self.range)})")
+        if sum(x * x for x in self.quat) ** 0.5 < MIN_QUAT_NORM:
+            raise ValueError(f"a quaternion [w, x, y, z] of norm >= {MIN_QUAT_NORM} ({list(self.quat)} is no rotation)")
+        return self
+
+
 class Sensors(StrictModel):
     """What the robot measures (``sensors`` key; :mod:`gaitshift.robots.sensors`)."""
 
     imu: Imu = Field(default_factory=Imu)
     foot_force: Annotated[bool, Strict()] = False
+    depth_camera: DepthCameraSettings | None = None
 
 
 class IkWeights(StrictModel):

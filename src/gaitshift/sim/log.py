@@ -129,3 +129,25 @@ class EstimationLog:
         if not self.rows["qpos"]:
             return {}
         return {f"est_{k}": np.array(v[:n]) for k, v in self.rows.items()}
+
+
+class PerceptionLog:
+    """Per tick: the controller's elevation map read at the TRUE soles' centres (a metric reads the
+    controller's output against the truth; the controller never sees this): ``map_height`` (2,) m and
+    ``map_known`` (2,) bool (the cell has been seen). Empty when the robot has no depth camera."""
+
+    def __init__(self) -> None:
+        self.height: list[np.ndarray] = []
+        self.known: list[np.ndarray] = []
+
+    def record(self, elevation_map: Any, soles_xy: np.ndarray) -> None:
+        """One row: the map's height and whether it is known under each sole (``soles_xy`` (2, 2) m)."""
+        h, p = elevation_map.lookup(soles_xy)
+        self.height.append(h)
+        self.known.append(np.isfinite(p))
+
+    def arrays(self, n: int) -> dict[str, np.ndarray]:
+        """The first ``n`` rows, or nothing when no map was logged."""
+        if not self.height:
+            return {}
+        return {"map_height": np.array(self.height[:n]), "map_known": np.array(self.known[:n])}

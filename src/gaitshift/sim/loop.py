@@ -42,8 +42,9 @@ from gaitshift.sim.bumps import Bump, check_bumps
 from gaitshift.sim.estimation_metrics import sensing_metrics
 from gaitshift.sim.latency import CommandDelay
 from gaitshift.sim.leg_clearance import LegClearance
-from gaitshift.sim.log import EstimationLog, TickLog
+from gaitshift.sim.log import EstimationLog, PerceptionLog, TickLog
 from gaitshift.sim.metrics import summarize
+from gaitshift.sim.perception_metrics import perception_metrics
 from gaitshift.sim.perturb import check_com_offset, check_joint_vel_noise, check_mass_scale, check_motor_strength
 from gaitshift.sim.plant import Plant, build_plant
 from gaitshift.sim.pushes import Push
@@ -169,6 +170,7 @@ class _Run:
         self.clearance = LegClearance.of(world.plant)
         self.log = TickLog(min(self.n_ticks, round(60.0 / self.dt)), world.plant.model)
         self.est_log = EstimationLog()
+        self.map_log = PerceptionLog()
         self.sense_hooks: tuple[TickHook, ...] = ()
 
     def execute(self) -> SimResult:
@@ -229,12 +231,16 @@ class _Run:
         )  # fmt: skip
         if rec.estimate is not None:
             self.est_log.record(rec.estimate)
+        if self.ctrl.perceiver is not None:
+            self.map_log.record(self.ctrl.perceiver.map, feet[:, :2])
 
     def _result(self, n_done: int, wall: float, fell: bool, fall_time: float, reason: str) -> SimResult:
-        arrays = {**self.log.arrays(n_done), **self.est_log.arrays(n_done)}
+        arrays = {**self.log.arrays(n_done), **self.est_log.arrays(n_done), **self.map_log.arrays(n_done)}
         result = SimResult(arrays, fell, fall_time, reason, self._meta(n_done, wall), {})
         result.metrics = summarize(result, self.ctrl.trajectory, self.world.plant.torque_limit)
         result.metrics.update(sensing_metrics(result.arrays, self.ctrl.source))
+        frames = self.ctrl.perceiver.frames if self.ctrl.perceiver is not None else 0
+        result.metrics.update(perception_metrics(result.arrays, frames))
         return result
 
     def _meta(self, n_done: int, wall: float) -> dict[str, Any]:

@@ -5,7 +5,8 @@ This is the only code, with the metrics, that reads the plant's ``MjData``. Per 
     world.observe(k)        latch the IMU over the last step, mj_forward, the true contacts, the fall test
     frame = world.sense(k)  SensorFrame: IMU (quaternion, gyro, accelerometer), encoders, driver
                             velocities, motor torques, sole forces, all in motor order, corrupted by
-                            the noise profile; the oracle's OracleState only when asked for
+                            the noise profile; the depth camera's points (its frames only,
+                            gaitshift.sim.depth_camera); the oracle's OracleState only when asked for
     world.apply(cmd, k)     tau + kp (q - q_meas) + kd (dq - dq_meas) per motor, through the latency
                             pipe, into the plant (the only write), and the push of tick k
     mujoco.mj_step
@@ -27,6 +28,7 @@ from gaitshift.control.frames import MotorCommand, OracleState, SensorFrame
 from gaitshift.control.settings import contact_source
 from gaitshift.models.terrain import Terrain
 from gaitshift.sim.contacts import ContactSensor, FootContacts, fall_reason
+from gaitshift.sim.depth_camera import DepthCameraSim
 from gaitshift.sim.latency import CommandDelay
 from gaitshift.sim.perturb import perturbed_physics, with_joint_vel_noise
 from gaitshift.sim.plant import Plant
@@ -86,6 +88,8 @@ class World:
         self.motor_v = m.jnt_dofadr[joints] - 6
         self.delay = CommandDelay(opts.latency)
         self.contact_sensor = ContactSensor(plant)
+        cam = plant.robot.sensors.depth_camera
+        self.camera = None if cam is None else DepthCameraSim(m, cam, self.dt, opts.seed)
         self.ground = Terrain.from_list(None)
         self.pelvis0 = float(qpos0[2])
         self.push = push_forces(opts.pushes, opts.settle, self.dt, n_ticks)
@@ -128,6 +132,7 @@ class World:
             dq=r.joints.qd[self.motor_v],
             tau_est=d.actuator_force.copy(),
             foot_force=r.forces.normal if self.foot_force else None,
+            depth_points=None if self.camera is None else self.camera.read(d, k),
             oracle=self._truth() if self.oracle else None,
         )
 
