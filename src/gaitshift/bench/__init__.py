@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 #: Topic modules, in table order.
-TOPICS = ("tvlip", "vhip", "locomotion", "robot", "sim", "estimation", "slip")
+TOPICS = ("tvlip", "vhip", "locomotion", "robot", "sim", "estimation", "perception", "slip")
 
 
 @dataclass(frozen=True)

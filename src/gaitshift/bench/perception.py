@@ -1,0 +1,100 @@
+"""Speed of perception (docs/perception.md, "Cost"), baselines measured in the same run.
+
+The G1 stands 0.5 m before g1-stairs-up's three 10 cm stairs, its head camera (the robot YAML's
+D435i: 32 x 24 rays, 30 Hz) looking at them.
+
+* ``G1 depth frame (DepthCameraSim.read)``: one frame of the simulated camera (the world's side:
+  ``mj_multiRay`` over every pixel, noise, dropout); the baseline casts the same rays one ``mj_ray`` at
+  a time in Python.
+* ``G1 map update (Perceiver.frame)``: the controller's side: the frame placed with the camera pose
+  (eq. (1) of :mod:`gaitshift.control.perception.perceiver`) and fused into the map (eq. (1) of
+  :mod:`gaitshift.control.perception.elevation_map`); the baseline fuses the same points one at a
+  time in Python (the per-point Kalman update).
+
+The note gives the map update's share of a 2 ms tick, averaged over the ticks between frames.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from gaitshift.bench import Result, benchmark, timed
+
+#: the stairs the camera looks at (g1-stairs-up's treads, shifted 0.25 m further: the robot stands at 0)
+STAIRS = ((0.5, 0.75, 0.1), (0.75, 1.0, 0.2), (1.0, 3.0, 0.3))
+
+
+def _scene() -> tuple[Any, Any, Any, Any]:
+    """The plant, its data with the G1 standing, its camera and the camera's simulator."""
+    from gaitshift.models.terrain import Piece, Terrain
+    from gaitshift.sim.depth_camera import DepthCameraSim
+    from gaitshift.sim.plant import build_plant
+
+    terrain = Terrain(tuple(Piece(x0, x1, z, z) for x0, x1, z in STAIRS))
+    plant = build_plant(0.002, "g1", terrain)
+    m = plant.model
+    d = mujoco.MjData(m)
+    d.qpos[:] = plant.robot.standing_qpos(m)
+    d.qpos[2] = 0.76
+    mujoco.mj_forward(m, d)
+    cam = plant.robot.sensors.depth_camera
+    assert cam is not None  # the G1 YAML's D435i
+    return m, d, cam, DepthCameraSim(m, cam, 0.002, seed=0)
+
+
+def _ray_by_ray(m: Any, d: Any, sim: Any) -> None:
+    """The baseline camera: the same rays, one ``mj_ray`` each."""
+    rot = d.site_xmat[sim.site].reshape(3, 3)
+    geom = np.zeros(1, np.int32)
+    for ray in sim.rays @ rot.T:
+        mujoco.mj_ray(m, d, d.site_xpos[sim.site], ray, sim.groups, 1, -1, geom)
+
+
+def _point_by_point(per: Any, world: np.ndarray, var: np.ndarray) -> None:
+    """The baseline fusion: eq. (1) of the map one point at a time."""
+    m = per.map
+    for p, v in zip(world, var, strict=True):
+        i, j = m.cells(p[None, :2])[0] - m.corner
+        if 0 <= i < m.n and 0 <= j < m.n:
+            prior = 1.0 / m.variance[i, j]
+            post = 1.0 / (prior + 1.0 / v)
+            m.height[i, j] = post * (prior * m.height[i, j] + p[2] / v)
+            m.variance[i, j] = post
+
+
+@benchmark("perception")
+def bench_perception(quick: bool) -> list[Result]:
+    from gaitshift.control.perception import Perceiver
+
+    m, d, cam, sim = _scene()
+    reps = 20 if quick else 500
+    frame = timed(
+        "G1 depth frame (DepthCameraSim.read)",
+        f"{len(sim.rays)} rays, stairs ahead",
+        lambda: sim.read(d, 0),
+        reps,
+        baseline=("one mj_ray per pixel in Python", lambda: _ray_by_ray(m, d, sim), max(5, reps // 10)),
+    )
+    pts = sim.read(d, 0)
+    assert pts is not None
+    per = Perceiver(m, cam)
+    rot, o = d.site_xmat[per.site].reshape(3, 3), d.site_xpos[per.site]
+    world = o + pts @ rot.T
+    var = np.full(len(pts), 1e-4)
+    update = timed(
+        "G1 map update (Perceiver.frame)",
+        f"{len(pts)} points into a {per.map.n} x {per.map.n} map",
+        lambda: per.frame(0.0, pts, d, 1e-6),
+        reps,
+        baseline=(
+            "point-by-point Kalman update in Python",
+            lambda: _point_by_point(per, world, var),
+            max(5, reps // 10),
+        ),
+    )
+    share = (frame.median_s + update.median_s) / sim.every / 0.002 * 100
+    note = f"camera + map every {sim.every} ticks: {share:.2f} % of a 2 ms tick on average"
+    return [frame, Result(**{**update.__dict__, "note": note})]
