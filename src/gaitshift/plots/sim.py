@@ -6,7 +6,9 @@
 * ``sim_snapshots.png``: rendered snapshots at evenly spaced times (needs an OpenGL context, e.g.
   MUJOCO_GL=egl; skipped with a note when none is available);
 * ``sim_estimation.png``: the state estimate against the truth (:mod:`gaitshift.plots.estimation`),
-  when the run logged the estimator.
+  when the run logged the estimator;
+* ``sim_perception.png``: the controller's elevation map as the run ended (:mod:`gaitshift.plots.perception`),
+  when the robot has a depth camera.
 """
 
 from __future__ import annotations
@@ -123,4 +125,10 @@ def plot_all(result: Any, traj: Any, folder: str | Path) -> list[Path]:
     if all(key in result.arrays for key in ESTIMATION_KEYS):
         est = result.metrics.get("estimation") if isinstance(result.metrics, dict) else None
         out.append(plot_estimation(result.arrays, folder / "sim_estimation.png", est))
+    if "map_heights" in result.arrays:
+        from gaitshift.plots.perception import perception_figure
+
+        per = result.metrics.get("perception", {}) if isinstance(result.metrics, dict) else {}
+        title = ", ".join(f"{k} {v:.4g}" for k, v in per.items())
+        out.append(perception_figure(result.arrays, folder / "sim_perception.png", f"elevation map: {title}"))
     return out

@@ -134,20 +134,34 @@ class EstimationLog:
 class PerceptionLog:
     """Per tick: the controller's elevation map read at the TRUE soles' centres (a metric reads the
     controller's output against the truth; the controller never sees this): ``map_height`` (2,) m and
-    ``map_known`` (2,) bool (the cell has been seen). Empty when the robot has no depth camera."""
+    ``map_known`` (2,) bool (the cell has been seen); and the map as the run ended: ``map_heights``
+    (n, n) m (0 where unseen), ``map_seen`` (n, n) bool, ``map_corner`` (2,) m (the world xy of cell
+    [0, 0]'s lower corner) and ``map_resolution`` m. Empty when the robot has no depth camera."""
 
     def __init__(self) -> None:
         self.height: list[np.ndarray] = []
         self.known: list[np.ndarray] = []
+        self._last: Any = None
 
     def record(self, elevation_map: Any, soles_xy: np.ndarray) -> None:
         """One row: the map's height and whether it is known under each sole (``soles_xy`` (2, 2) m)."""
         h, p = elevation_map.lookup(soles_xy)
         self.height.append(h)
         self.known.append(np.isfinite(p))
+        self._last = elevation_map
+
+    def _final(self) -> dict[str, np.ndarray]:
+        m = self._last
+        r = m.settings.resolution
+        return {
+            "map_heights": np.where(m.known, m.height, 0.0),
+            "map_seen": m.known.copy(),
+            "map_corner": m.corner * r,
+            "map_resolution": np.array(r),
+        }
 
     def arrays(self, n: int) -> dict[str, np.ndarray]:
         """The first ``n`` rows, or nothing when no map was logged."""
         if not self.height:
             return {}
-        return {"map_height": np.array(self.height[:n]), "map_known": np.array(self.known[:n])}
+        return {"map_height": np.array(self.height[:n]), "map_known": np.array(self.known[:n]), **self._final()}

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ElevationMap", "MapSettings"]
+__all__ = ["ElevationMap", "MapSettings", "step_edges"]
 
 
 @dataclass(frozen=True)
@@ -120,14 +120,19 @@ class ElevationMap:
 
     def edges(self, step: float) -> np.ndarray:
         """(n, n) bool: known cells whose height differs by more than ``step`` m from a known
-        4-neighbour's."""
-        h, k = self.height, self.known
-        out = np.zeros_like(k)
-        for axis in (0, 1):
-            a = [slice(None), slice(None)]
-            b = [slice(None), slice(None)]
-            a[axis], b[axis] = slice(1, None), slice(None, -1)
-            jump = k[tuple(a)] & k[tuple(b)] & (np.abs(h[tuple(a)] - h[tuple(b)]) > step)
-            out[tuple(a)] |= jump
-            out[tuple(b)] |= jump
-        return out
+        4-neighbour's (:func:`step_edges`)."""
+        return step_edges(self.height, self.known, step)
+
+
+def step_edges(height: np.ndarray, known: np.ndarray, step: float) -> np.ndarray:
+    """(n, m) bool: the ``known`` cells of the grid ``height`` (m) whose height differs by more than
+    ``step`` m from a known 4-neighbour's."""
+    out = np.zeros_like(known, dtype=bool)
+    for axis in (0, 1):
+        a = [slice(None), slice(None)]
+        b = [slice(None), slice(None)]
+        a[axis], b[axis] = slice(1, None), slice(None, -1)
+        jump = known[tuple(a)] & known[tuple(b)] & (np.abs(height[tuple(a)] - height[tuple(b)]) > step)
+        out[tuple(a)] |= jump
+        out[tuple(b)] |= jump
+    return out
