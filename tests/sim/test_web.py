@@ -152,3 +152,35 @@ def test_scene_poses_every_moving_body_from_mjdata(backend):
             np.testing.assert_allclose(scene.scene.fixed_bodies_frame.position, -d.xpos[1])
     finally:
         server.stop()
+
+
+def test_the_view_draws_the_controllers_map_at_its_heights_with_its_edges_red():
+    """A controller's map holding a 10 cm step: the page's map cloud has one point per seen cell at
+    that cell's centre and height, and the cells on the step's edge are red."""
+    from types import SimpleNamespace
+
+    from gaitshift.api import plan
+    from gaitshift.control.perception import ElevationMap, MapSettings
+    from gaitshift.sim.plant import build_plant
+    from gaitshift.sim.web import WebView
+
+    emap = ElevationMap(MapSettings(size=1.0, resolution=0.05))
+    emap.recenter(np.zeros(2))
+    xy = emap.centres().reshape(-1, 2)
+    z = np.where(xy[:, 0] > 0.2, 0.1, 0.0)
+    emap.fuse(np.column_stack([xy, z]), np.full(len(z), 1e-6))
+    traj = plan("g1-walk")
+    m = build_plant(0.002, "g1").model
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    view = WebView(lambda: traj, port=_free_port())
+    try:
+        view.attach(SimpleNamespace(perceiver=SimpleNamespace(map=emap)))
+        view(0, 0.0, d)
+        pts, cols = view.nodes["map"].points, view.nodes["map"].colors
+        assert len(pts) == emap.n**2
+        np.testing.assert_allclose(pts[:, 2], np.where(pts[:, 0] > 0.2, 0.1, 0.0), atol=1e-5)
+        red = np.all(cols == (255, 0, 0), axis=1)
+        assert red.sum() == 2 * emap.n and np.all(np.abs(pts[red, 0] - 0.2) < 0.05)
+    finally:
+        view.close()

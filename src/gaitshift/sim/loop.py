@@ -53,7 +53,8 @@ from gaitshift.sim.video import VIDEO_SIZE, VideoRecorder, check_video, close_vi
 from gaitshift.sim.world import World, with_floor_friction
 from gaitshift.trajectory.contract import Trajectory
 
-#: called after the control of every tick: (tick index, plan time s, the plant's MjData)
+#: called after the control of every tick: (tick index, plan time s, the plant's MjData); a hook with an
+#: ``attach(controller)`` method is handed the run's controller first (the browser view draws its map)
 TickHook = Callable[[int, float, Any], None]
 #: the SimOptions that configure the controller (the rest configure the world)
 CONTROLLER_KEYS = (
@@ -172,6 +173,10 @@ class _Run:
         self.est_log = EstimationLog()
         self.map_log = PerceptionLog()
         self.sense_hooks: tuple[TickHook, ...] = ()
+        for hook in self.hooks:
+            attach = getattr(hook, "attach", None)
+            if attach is not None:
+                attach(ctrl)
 
     def execute(self) -> SimResult:
         """Run the ticks until the plan ends or the robot falls; return the result with its metrics."""

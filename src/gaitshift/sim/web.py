@@ -14,6 +14,9 @@ before the run starts); the scene is built at the first tick from ``d.model``
 - the measured ZMP: on flat ground the centre of pressure of the floor contacts,
   ``p = sum_i f_z,i c_i / sum_i f_z,i`` (green disc; hidden in flight), and the planned ZMP of the
   sample being tracked (small dark green sphere);
+- the controller's elevation map (a robot with a depth camera, :mod:`gaitshift.control.perception`):
+  its seen cells at their heights, coloured by height, its edges red, redrawn every
+  :data:`MAP_EVERY` frames;
 - a status panel: plan time, gait, measured CoM speed in the heading frame (m/s), the command the
   plan carries at that sample (vx, vy m/s, yaw rate rad/s), the real-time factor (simulated s per
   wall-clock s since the first tick) and the page updates per second.
@@ -46,6 +49,8 @@ TRAIL = 90
 GAITS = ("stand", "walk", "run")
 #: slider step of the command sliders (m/s, rad/s)
 SLIDER_STEP = 0.05
+#: the map is redrawn every this many frames; a step between neighbour cells that marks an edge, m
+MAP_EVERY, MAP_EDGE_STEP = 15, 0.04
 #: sole outline drawn at each foothold (length, width), m
 SOLE = (0.20, 0.09)
 
@@ -132,6 +137,7 @@ class WebView:
         self._next, self._wall0, self._frames, self._trail = 0.0, 0.0, 0, np.zeros((0, 3))
         self._steps_key: tuple[int, float] = (-1, 0.0)
         self.update_wall: list[float] = []  # wall-clock s of each frame update (measurements)
+        self.elevation: Any = None  # the controller's elevation map (attach), drawn every MAP_EVERY frames
         self.status = self.server.gui.add_markdown("waiting for the simulation ...")
         self.sliders: dict[str, Any] = {}
         if controls is not None:
@@ -155,6 +161,31 @@ class WebView:
             s.on_update(lambda _: self._queue("command", self._slider_command()))
         stop.on_click(lambda _: self._stop())
         end.on_click(lambda _: self._queue("quit", (0.0, 0.0, 0.0)))
+
+    def attach(self, ctrl: Any) -> None:
+        """The run's controller (:data:`gaitshift.sim.loop.TickHook`): its elevation map, when its robot
+        has a depth camera, is drawn as coloured cells with its edges in red."""
+        self.elevation = ctrl.perceiver.map if getattr(ctrl, "perceiver", None) is not None else None
+
+    def _draw_map(self) -> None:
+        """The map's seen cells at their heights (coloured by height) and its edges (red)."""
+        from matplotlib import colormaps
+
+        assert self.scene is not None
+        m = self.elevation
+        seen = m.known
+        if not seen.any():
+            return
+        xy = m.centres()[seen]
+        h = m.height[seen]
+        lo, hi = float(h.min()), float(h.max())
+        rgb = colormaps["viridis"]((h - lo) / max(hi - lo, 1e-3))[:, :3]
+        rgb[m.edges(MAP_EDGE_STEP)[seen]] = (1.0, 0.0, 0.0)
+        points = np.column_stack([xy, h]).astype(np.float32)
+        colors = (255 * rgb).astype(np.uint8)
+        self.nodes["map"] = self.server.scene.add_point_cloud(
+            f"{self.scene.root}/elevation_map", points, colors, point_size=0.03, precision="float32"
+        )
 
     def _slider_command(self) -> tuple[float, float, float]:
         return (float(self.sliders["vx"].value), float(self.sliders["vy"].value), float(self.sliders["yaw"].value))
@@ -230,6 +261,8 @@ class WebView:
             if nodes["zmp_plan"].visible:
                 nodes["zmp_plan"].position = zp
             self._frames += 1
+            if self.elevation is not None and self._frames % MAP_EVERY == 1:
+                self._draw_map()
             if self._frames % 6 == 1:
                 self.status.content = self.status_text(t, d, traj, i)
         self.server.flush()
