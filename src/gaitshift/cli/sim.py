@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -34,6 +35,12 @@ def simulate_cmd(
     ),
     joint_vel_noise: float | None = typer.Option(
         None, "--joint-vel-noise", help="Extra uniform joint-velocity sensor noise, rad/s half-width (0)."
+    ),
+    com_offset: str | None = typer.Option(
+        None, "--com-offset", help="X,Y,Z m: the simulated base's centre of mass moved (base frame; 0,0,0)."
+    ),
+    motor_strength: float | None = typer.Option(
+        None, "--motor-strength", help="Factor on the simulated motors' torque and torque limit (1)."
     ),
     figures: Path | None = typer.Option(None, "--figures", help="Folder for the figures (PNG)."),
     control_period: float = typer.Option(0.002, "--control-period", help="Control period = time step, s."),
@@ -72,6 +79,7 @@ def simulate_cmd(
 
     sensing: dict[str, Any] = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency}
     sensing |= {"friction": friction, "mass_scale": mass_scale, "joint_vel_noise": joint_vel_noise, "contact": contact}
+    sensing |= {"com_offset": numbers("--com-offset", com_offset, 3), "motor_strength": motor_strength}
     flags = sensing_flags(out, video, None, rerun, seed=seed, video_size=video_size, video_fps=video_fps, **sensing)
     pushes_given, bumps = perturbation_flags(push, bump)
     if figures is not None:
@@ -87,6 +95,20 @@ def simulate_cmd(
     with web_view(web, web_port, lambda: driver.trajectory if driver else traj, as_json, realtime=True) as views:
         run = run_prepared(prepared, hooks=views, **given)
     report(run.result, run.trajectory, cfg, driver, ReportFiles(out, video, rerun, figures), as_json, sc.name)
+
+
+def numbers(flag: str, text: str | None, n: int) -> tuple[float, ...] | None:
+    """``text`` as ``n`` comma-separated finite numbers (None: not given); one line naming ``flag``."""
+    if text is None:
+        return None
+    parts = text.split(",")
+    try:
+        vals = tuple(float(x) for x in parts)
+    except ValueError:
+        vals = ()
+    if len(vals) != n or not all(math.isfinite(v) for v in vals):
+        raise InputError(flag, text, f"{n} comma-separated numbers")
+    return vals
 
 
 def figures_folder(path: Path) -> Path:
