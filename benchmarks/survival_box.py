@@ -41,7 +41,9 @@ def groups(rows: list[dict[str, Any]]) -> dict[str, list[dict[str, Any]]]:
         "box: walking": walk,
         f"box: running <= {MAX_RUN_SPEED} m/s": run,
         "box: all": box,
-        "rl-peer noise (friction >= 0.4)": [r for r in ran if r["friction"] >= MIN_FRICTION and r["noise"] == "rl-peer"],
+        "rl-peer noise (friction >= 0.4)": [
+            r for r in ran if r["friction"] >= MIN_FRICTION and r["noise"] == "rl-peer"
+        ],
         f"friction < {MIN_FRICTION}": [r for r in ran if r["friction"] < MIN_FRICTION],
         f"running > {MAX_RUN_SPEED} m/s (box noise, friction)": [
             r for r in box if "run" in str(r["plan_gaits"]) and r["speed"] > MAX_RUN_SPEED

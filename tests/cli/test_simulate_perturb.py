@@ -1,7 +1,8 @@
 """``gaitshift simulate``'s perturbation flags (issue 13): a bad ``--push``, ``--bump``,
-``--mass-scale``, ``--joint-vel-noise``, ``--com-offset`` or ``--motor-strength`` is one line naming the flag, exit 2, no file; good ones reach
-the run (the pushes' impulses are in the log, the bump, mass scale, noise, base CoM offset and motor strength in its metadata), and a
-scenario's ``sim:`` pushes apply unless ``--push`` replaces them."""
+``--mass-scale``, ``--joint-vel-noise``, ``--com-offset`` or ``--motor-strength`` is one line naming
+the flag, exit 2, no file; good ones reach the run (the pushes' impulses are in the log, the bump, mass
+scale, noise, base CoM offset and motor strength in its metadata), and a scenario's ``sim:`` pushes
+apply unless ``--push`` replaces them."""
 
 from __future__ import annotations
 
