@@ -1,8 +1,10 @@
 """The motion to export: MuJoCo configurations of one robot over time, from a plan or a simulation log.
 
 * a plan (``gaitshift plan ... --out plan.npz``, the trajectory contract): the whole-body IK
-  (:mod:`gaitshift.wholebody.ik`) solves q(t) at a rate of 1/(k dt) >= max(200 Hz, 4 fps) (k integer)
-  (its q̇: central differences on the configuration manifold); the kinematic motion;
+  (:mod:`gaitshift.wholebody.ik`) with its reference settings (``REFERENCE_SETTINGS``: every joint
+  within its soft range, the pelvis upright, the swing soles' pitch soft) solves q(t) at a rate of
+  1/(k dt) >= max(200 Hz, 4 fps) (k integer) (its q̇: central differences on the configuration
+  manifold); the kinematic motion;
 * a simulation log (``gaitshift simulate ... --out sim.npz``, :class:`gaitshift.sim.result.SimResult`):
   the logged ``qpos`` and ``qvel`` of every control tick, the motion the robot actually made (up to
   the fall, if it fell).
@@ -96,7 +98,7 @@ def _from_log(path: Path, log: dict[str, np.ndarray], robot: str | None) -> Sour
 def _from_plan(path: Path, robot: str | None, fps: float) -> SourceMotion:
     from gaitshift.api import named_robot
     from gaitshift.trajectory.contract import Trajectory
-    from gaitshift.wholebody.ik import WholeBodyIK
+    from gaitshift.wholebody.ik import REFERENCE_SETTINGS, WholeBodyIK
 
     traj = Trajectory.load(path)
     named = named_robot(traj.meta)
@@ -104,6 +106,6 @@ def _from_plan(path: Path, robot: str | None, fps: float) -> SourceMotion:
         raise InputError("--robot", None, "a built-in robot name or robot YAML (the plan names none)")
     cfg = load_robot(robot if robot is not None else str(named))
     step = max(1, math.floor(1.0 / (traj.dt * max(MIN_IK_RATE, 4.0 * fps)) + 1e-9))
-    joints = WholeBodyIK(cfg).solve(traj, rate=1.0 / (step * traj.dt))
+    joints = WholeBodyIK(cfg, REFERENCE_SETTINGS).solve(traj, rate=1.0 / (step * traj.dt))
     meta = {"robot": cfg.name, "ik_rate_hz": 1.0 / (step * traj.dt), "ik": joints.meta["ik"]}
     return SourceMotion("plan", cfg, joints.t, joints.qpos, joints.qvel, meta)

@@ -63,6 +63,8 @@ class RobotConfig:
         standing_pose: ((joint, angle), ...) rad (given or computed).
         joint_names: every hinge/slide joint of the model in qpos order (free joint excluded).
         joint_range: (J, 2) lower/upper limit of each joint of ``joint_names``, rad; +-inf if unlimited.
+        soft_joint_fraction: the soft range of a joint is the middle fraction of ``joint_range`` (YAML
+            ``limits``; :func:`gaitshift.wholebody.ik_tasks.soft_range`).
         torque_limit: (J,) largest joint torque, N m; inf if the model gives none.
         velocity_limit: (J,) largest joint speed, rad/s, from the YAML's ``velocity_limits`` (the maker's
             limits: the IK and ``simulate`` refuse plans above them); inf where the YAML gives none.
@@ -116,6 +118,7 @@ class RobotConfig:
     sensors: RobotSensors
     control: tuple[tuple[str, float], ...] = ()
     ik: tuple[tuple[str, float], ...] = ()
+    soft_joint_fraction: float = 0.9
     flight_scale: float = 1.0
     step_width: float | None = None
     run_contact_length: float = math.inf
@@ -352,6 +355,7 @@ def _load_text(text: str, base: str | None, source: str) -> RobotConfig:
         sensors=robot_sensors(cfg.sensors, raw_model, model.body(model.jnt_bodyid[0]).name),
         control=tuple(cfg.control.items()),
         ik=tuple((k, v) for k, v in cfg.ik.model_dump().items() if v is not None),
+        soft_joint_fraction=cfg.limits.soft_joint_fraction,
         flight_scale=cfg.gait.flight_scale,
         step_width=cfg.gait.step_width,
         run_contact_length=cfg.gait.run_contact_length or math.inf,

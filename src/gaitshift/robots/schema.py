@@ -29,6 +29,10 @@
                        are the fields of ``gaitshift.control.wbc.Gains`` (docs/robots.md)
 ``ik``                 (optional) weights of the whole-body IK's soft tasks for this robot: ``posture_cost``,
                        ``torso_cost``, ``arm_cost`` (fields of ``gaitshift.wholebody.ik.IKSettings``)
+``limits``             (optional) ``soft_joint_fraction`` (0 < f <= 1, default 0.9): the soft range of each
+                       joint is the middle f of its MJCF range (centre +- f x half range, as mjlab's
+                       ``soft_joint_pos_limit_factor``); reference motions (``gaitshift export`` of a
+                       plan) keep every joint inside it
 ``sensors``            (optional) the IMU frame, ``imu: {site: <site>}`` or ``imu: {body: <body>,
                        pos: [x, y, z], quat: [w, x, y, z]}`` (default: the floating base's origin), and
                        ``foot_force`` (default false): whether the soles measure force, and
@@ -161,6 +165,12 @@ class IkWeights(StrictModel):
     arm_cost: Gain | None = None
 
 
+class Limits(StrictModel):
+    """Joint-range margins (``limits`` key): the soft range is the middle ``soft_joint_fraction`` of each range."""
+
+    soft_joint_fraction: Annotated[float, Strict(), Field(gt=0, le=1, allow_inf_nan=False)] = 0.9
+
+
 class RobotYaml(StrictModel):
     """The keys of a robot YAML file (see module docstring)."""
 
@@ -183,6 +193,7 @@ class RobotYaml(StrictModel):
     gait: Gait = Field(default_factory=Gait)
     sensors: Sensors = Field(default_factory=Sensors)
     ik: IkWeights = Field(default_factory=IkWeights)
+    limits: Limits = Field(default_factory=Limits)
 
     @field_validator("sole_orientation")
     @classmethod

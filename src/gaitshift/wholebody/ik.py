@@ -11,6 +11,9 @@ At each sample k the configuration q_k (MuJoCo qpos: free joint first, then the 
 
 exactly, and among the solutions keeps the torso upright (yaw = mean sole yaw) and the arms, waist
 and legs close to the standing pose (weighted least squares), with the joint limits as inequalities.
+Reference motions (:data:`REFERENCE_SETTINGS`, what ``gaitshift export`` of a plan uses) also keep the
+pelvis upright at the same yaw, every joint within its soft range (the robot YAML's
+``limits.soft_joint_fraction``), and leave a swing sole's pitch soft (:mod:`gaitshift.wholebody.ik_tasks`).
 Each Newton iteration is one mink QP (daqp through qpsolvers)::
 
     min_dq  sum_soft ||J_i dq + e_i||^2_{W_i} + damping ||dq||^2
@@ -41,6 +44,7 @@ from gaitshift.common.rotations import rot_z
 from gaitshift.errors import InfeasibleError, InputError
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.trajectory.contract import Trajectory
+from gaitshift.wholebody.ik_tasks import SoleTasks, SoleTaskSets, limited_model, soft_range, sole_angle_error
 from gaitshift.wholebody.joints import JointTrajectory, coordinate_names, joint_velocities, subsample
 
 TASKS = ("com", "left sole", "right sole")
@@ -70,6 +74,12 @@ class IKSettings:
         torso_cost, posture_cost, arm_cost: weights of the soft tasks (unitless, per rad).
         damping: Levenberg-Marquardt damping of the QP.
         extrapolate: warm-start each sample at q_{k-1} ⊕ (q_{k-1} ⊖ q_{k-2}) (else at q_{k-1}).
+        soft_limits: keep every joint within its soft range (``RobotConfig.soft_joint_fraction`` of its
+            range), else within the MJCF range.
+        pelvis_cost: weight of the floating base's orientation task (upright, yaw = mean sole yaw;
+            unitless, per rad); 0: none.
+        swing_pitch_cost: weight of a swing sole's pitch as a soft task (per rad); None: a hard
+            constraint like the stance soles' (:mod:`gaitshift.wholebody.ik_tasks`).
     """
 
     com_tol: float = 1e-3
@@ -85,35 +95,15 @@ class IKSettings:
     arm_cost: float = 0.5
     damping: float = 1e-6
     extrapolate: bool = True
+    soft_limits: bool = False
+    pelvis_cost: float = 0.0
+    swing_pitch_cost: float | None = None
 
 
-# ====================================================================== targets
-
-
-def _rot_angle(r_target: np.ndarray, r: np.ndarray) -> float:
-    c = (np.trace(r_target.T @ r) - 1.0) / 2.0
-    return float(math.acos(min(1.0, max(-1.0, c))))
-
-
-def _rot_angle_no_roll(r_target: np.ndarray, r: np.ndarray) -> float:
-    """Orientation error without the roll about the sole's own x axis: the angle between the x axes
-    (pitch and yaw of the sole), rad."""
-    c = float(r_target[:, 0] @ r[:, 0])
-    return float(math.acos(min(1.0, max(-1.0, c))))
-
-
-class _RowsTask:
-    """Some rows of a mink task's error and Jacobian, as an equality constraint (mink reads ``gain``,
-    ``compute_error`` and ``compute_jacobian`` of its constraints)."""
-
-    def __init__(self, task: Any, rows: tuple[int, ...]):
-        self.task, self.rows, self.gain = task, list(rows), task.gain
-
-    def compute_error(self, configuration: Any) -> np.ndarray:
-        return np.asarray(self.task.compute_error(configuration))[self.rows]
-
-    def compute_jacobian(self, configuration: Any) -> np.ndarray:
-        return np.asarray(self.task.compute_jacobian(configuration))[self.rows]
+#: the IK of reference motions (``gaitshift export`` of a plan, docs/export.md "Fit for training"): joints
+#: within their soft range, the pelvis upright (g1-walk-run-walk: roll within +-0.4 deg instead of -21 to
+#: +25 deg), the swing soles' pitch soft (up to 16 deg toe down in its running swings)
+REFERENCE_SETTINGS = IKSettings(soft_limits=True, pelvis_cost=10.0, swing_pitch_cost=1.0)
 
 
 # ====================================================================== IK
@@ -138,6 +128,7 @@ class WholeBodyIK:
             mink.FrameTask(n, "site", position_cost=1.0, orientation_cost=1.0) for n in RobotConfig.SOLE_SITES
         ]
         self.torso_task = mink.FrameTask(self.robot.torso, "body", position_cost=0.0, orientation_cost=s.torso_cost)
+        self.pelvis_task = mink.FrameTask(self.robot.base, "body", position_cost=0.0, orientation_cost=s.pelvis_cost)
         cost = np.full(m.nv, s.posture_cost)
         cost[:6] = 0.0
         legs = set(self.robot.leg_joints)
@@ -146,37 +137,38 @@ class WholeBodyIK:
                 cost[m.jnt_dofadr[m.joint(name).id]] = s.arm_cost
         self.posture_task = mink.PostureTask(m, cost=cost)
         self.posture_task.set_target(self.q_stand)
-        self.limits = [mink.ConfigurationLimit(m, gain=0.95)]
-        #: sole roll rows dropped from the hard constraints: legs that cannot roll their foot (5-DOF legs)
+        jids = [m.joint(n).id for n in self.robot.joint_names]
+        rng = self.robot.joint_range
+        if s.soft_limits:
+            rng = soft_range(rng, self.robot.soft_joint_fraction)
+        self.limits = [mink.ConfigurationLimit(limited_model(m, jids, rng) if s.soft_limits else m, gain=0.95)]
+        #: rows dropped from the hard constraints: sole roll of legs that cannot roll their foot (5-DOF
+        #: legs), and swing sole pitch with ``swing_pitch_cost``
         self.dropped = [
             f"{side} sole roll" for side, ok in zip(("left", "right"), self.robot.foot_roll, strict=True) if not ok
-        ]
-        self.hard: list[Any] = [self.com_task] + [
-            t if ok else _RowsTask(t, (0, 1, 2, 4, 5))
-            for t, ok in zip(self.sole_tasks, self.robot.foot_roll, strict=True)
-        ]
-        self.soft = [self.torso_task, self.posture_task] + [
-            t for t, ok in zip(self.sole_tasks, self.robot.foot_roll, strict=True) if not ok
-        ]
+        ] + (["swing sole pitch"] if s.swing_pitch_cost is not None else [])
+        self.sole_sets = SoleTaskSets(mink, self.sole_tasks, self.robot.foot_roll, s.swing_pitch_cost)
+        self.soft_base: list[Any] = [self.torso_task, self.posture_task]
+        if s.pelvis_cost > 0:
+            self.soft_base.append(self.pelvis_task)
         self.knee_adr = [m.joint(n).qposadr[0] for n in self.robot.knees]
         self.hip_ids = [m.joint(n).id for n in self.robot.hips]
-        jids = [m.joint(n).id for n in self.robot.joint_names]
         self._qadr = np.array([m.jnt_qposadr[j] for j in jids])
         self._vadr = np.array([m.jnt_dofadr[j] for j in jids])
-        self._lo, self._hi = self.robot.joint_range[:, 0], self.robot.joint_range[:, 1]
+        #: the joint range the IK keeps to (J, 2), rad: the MJCF's, or its soft range
+        self.joint_range = rng
+        self._lo, self._hi = rng[:, 0], rng[:, 1]
 
     # ------------------------------------------------------------------ one sample
-    def _errors(self, com: np.ndarray, feet: np.ndarray, rots: list[np.ndarray]) -> np.ndarray:
+    def _errors(self, com: np.ndarray, feet: np.ndarray, rots: list[np.ndarray], tasks: SoleTasks) -> np.ndarray:
+        """CoM error (m), sole position errors (m) and sole orientation errors without their free rows (rad)."""
         d = self.conf.data
         e = np.empty(5)
         e[0] = np.linalg.norm(d.subtree_com[1] - com)
         for i, sid in enumerate(self.sites):
             e[1 + i] = np.linalg.norm(d.site_xpos[sid] - feet[i])
             R = d.site_xmat[sid].reshape(3, 3)
-            if self.robot.foot_roll[i]:
-                e[3 + i] = _rot_angle(rots[i], R)
-            else:  # roll dropped: the angle between the sole's x axes and between its y-z plane normals
-                e[3 + i] = _rot_angle_no_roll(rots[i], R)
+            e[3 + i] = sole_angle_error(rots[i], R, tasks.free_roll[i], tasks.free_pitch[i])
         return e
 
     def _set_targets(self, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray) -> list[np.ndarray]:
@@ -186,17 +178,22 @@ class WholeBodyIK:
         for task, f, r in zip(self.sole_tasks, feet, rots, strict=True):
             task.set_target(SE3.from_rotation_and_translation(SO3.from_matrix(r), f))
         mid = math.atan2(math.sin(yaw[0]) + math.sin(yaw[1]), math.cos(yaw[0]) + math.cos(yaw[1]))
-        self.torso_task.set_target(SE3.from_rotation_and_translation(SO3.from_matrix(rot_z(mid)), np.zeros(3)))
+        upright = SE3.from_rotation_and_translation(SO3.from_matrix(rot_z(mid)), np.zeros(3))
+        self.torso_task.set_target(upright)
+        self.pelvis_task.set_target(upright)
+        self.sole_sets.set_targets()
         return rots
 
     def _solve_sample(
-        self, q: np.ndarray, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray, max_iter: int
+        self, q: np.ndarray, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray, contact: np.ndarray, max_iter: int
     ) -> tuple[np.ndarray, np.ndarray, int, str | None]:
         s = self.settings
         rots = self._set_targets(com, feet, yaw)
+        tasks = self.sole_sets.get(contact)
+        hard, soft = [self.com_task, *tasks.hard], self.soft_base + tasks.soft
         conf = self.conf
         conf.update(q)
-        err = self._errors(com, feet, rots)
+        err = self._errors(com, feet, rots, tasks)
         it = 0
         failure = None
         while it < max_iter and not (
@@ -204,13 +201,13 @@ class WholeBodyIK:
         ):
             try:
                 v = self._mink.solve_ik(
-                    conf, self.soft, 1.0, "daqp", damping=s.damping, limits=self.limits, constraints=self.hard
+                    conf, soft, 1.0, "daqp", damping=s.damping, limits=self.limits, constraints=hard
                 )
             except self._mink.NoSolutionFound:
                 failure = "the QP has no solution within the joint limits"
                 break
             conf.integrate_inplace(v, 1.0)
-            err = self._errors(com, feet, rots)
+            err = self._errors(com, feet, rots, tasks)
             it += 1
         return conf.q.copy(), err, it, failure
 
@@ -238,11 +235,12 @@ class WholeBodyIK:
             for i in (0, 1)
             if reach[i] > leg
         ]
-        lo, hi = self.robot.joint_range[:, 0], self.robot.joint_range[:, 1]
+        lo, hi = self._lo, self._hi
+        soft = f"soft range ({self.robot.soft_joint_fraction:g} of the MJCF's) " if s.soft_limits else "range "
         qj = q[self._qadr]
         for j in np.flatnonzero((qj - lo < 1e-2) | (hi - qj < 1e-2)):
             name = self.robot.joint_names[j]
-            causes.append((None, f"joint limit ({name} = {qj[j]:.3f} rad, range [{lo[j]:.3f}, {hi[j]:.3f}])"))
+            causes.append((None, f"joint limit ({name} = {qj[j]:.3f} rad, {soft}[{lo[j]:.3f}, {hi[j]:.3f}])"))
         causes += [
             (
                 i + 1,
@@ -308,7 +306,7 @@ class WholeBodyIK:
                 mujoco.mj_integratePos(m, q, v_prev, 1.0)
                 q[self._qadr] = np.clip(q[self._qadr], self._lo, self._hi)
             qk, err, it, failure = self._solve_sample(
-                q, com_all[k], feet_all[k], yaw_all[k], s.first_iter if k == 0 else s.max_iter
+                q, com_all[k], feet_all[k], yaw_all[k], traj.contact[k], s.first_iter if k == 0 else s.max_iter
             )
             if (
                 failure is not None
@@ -377,6 +375,8 @@ class WholeBodyIK:
                 "max_sole_position_error_m": float(errs[:, 1:3].max()),
                 "max_sole_orientation_error_rad": float(errs[:, 3:5].max()),
                 "dropped_tasks": list(self.dropped),
+                "soft_joint_fraction": self.robot.soft_joint_fraction if self.settings.soft_limits else None,
+                "pelvis_cost": self.settings.pelvis_cost,
                 "iterations_median": float(np.median(iters)),
                 "iterations_max": int(iters.max()),
                 "time_per_sample_median_s": float(np.median(st[1:] if len(st) > 1 else st)),

@@ -1,0 +1,168 @@
+"""Plan exports are fit for training, judged from the files with numpy and a plain MuJoCo model:
+
+* every joint of the G1 plan exports (g1-walk, g1-walk-run-walk) stays within the soft range mjlab
+  clips to at reset (the middle 90 % of the MJCF range, mjlab's G1 ``soft_joint_pos_limit_factor``),
+  which the IK's default motion of the same plan leaves (so the check can fail);
+* the pelvis roll and roll rate of the exports stay within those of the simulated runs: g1-walk's
+  against the simulation made by the conftest, g1-walk-run-walk's against its measured run;
+* a swing sole may pitch in the air, but is flat on every frame where the plan has it in contact;
+* the mjlab format's rules not checked elsewhere: the exact keys and dtypes, joints in the MJCF's
+  order, the base quaternion w first (an upright robot), linear velocities of the body frame origin
+  (the velocity of the body's CoM fails the same difference check).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import mujoco
+import numpy as np
+import pytest
+
+from gaitshift.cli import main
+from gaitshift.robots import load_robot
+from gaitshift.trajectory.contract import Trajectory
+from gaitshift.wholebody.ik import WholeBodyIK
+
+#: mjlab 1.6.0's G1 (asset_zoo/robots/unitree_g1/g1_constants.py): soft_joint_pos_limit_factor = 0.9
+MJLAB_SOFT_FACTOR = 0.9
+#: the simulated g1-walk-run-walk run (`gaitshift simulate g1-walk-run-walk`, estimated state, did not
+#: fall; docs/export.md "Fit for training"): pelvis roll within [-2.0, +1.8] deg, roll rate <= 0.33 rad/s
+SIM_WRW_ROLL_DEG, SIM_WRW_ROLL_RATE = 2.0, 0.33
+#: bound on the 95th percentile of |v - central difference| at 50 fps, m/s (as tests/export/test_motion_files.py)
+P95 = 0.03
+MJLAB_KEYS = {"fps", "joint_pos", "joint_vel", "body_pos_w", "body_quat_w", "body_lin_vel_w", "body_ang_vel_w"}
+
+
+def run(argv: list) -> int:
+    """``gaitshift argv`` in-process; its exit code."""
+    with pytest.raises(SystemExit) as exc:
+        main([str(a) for a in argv])
+    return int(exc.value.code or 0)
+
+
+@functools.cache
+def plain_model(robot: str) -> mujoco.MjModel:
+    """The robot's MJCF compiled as shipped (no gaitshift additions)."""
+    return mujoco.MjModel.from_xml_path(str(load_robot(robot).mjcf))
+
+
+def linear_difference_error(pos: np.ndarray, vel: np.ndarray, fps: int) -> np.ndarray:
+    """|vel - central difference of pos| (F-2, B) at frames 1 .. F-2, m/s."""
+    return np.linalg.norm((pos[2:] - pos[:-2]) * fps / 2 - vel[1:-1], axis=-1)
+
+
+def rotate(quat: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Vectors ``v`` (B, 3) rotated by the unit quaternions ``quat`` (F, B, 4), w x y z: (F, B, 3)."""
+    w, u = quat[..., :1], quat[..., 1:]
+    t = 2 * np.cross(u, np.broadcast_to(v, u.shape))
+    return v + w * t + np.cross(u, t)
+
+
+@pytest.fixture(scope="module")
+def wrw(tmp_path_factory):
+    """(plan .npz, its mjlab-npz export) of g1-walk-run-walk, made through the CLI."""
+    d = tmp_path_factory.mktemp("wrw")
+    plan, out = d / "wrw.npz", d / "wrw-motion.npz"
+    assert run(["plan", "g1-walk-run-walk", "--out", plan]) == 0
+    assert run(["export", plan, "--format", "mjlab-npz", "--out", out]) == 0
+    return plan, out
+
+
+@functools.cache
+def soft_range(robot: str) -> tuple[list[str], np.ndarray]:
+    """Joint names (MJCF order) and mjlab's soft range (J, 2) of each, from the plain model."""
+    m = plain_model(robot)
+    ids = [j for j in range(m.njnt) if m.jnt_type[j] != mujoco.mjtJoint.mjJNT_FREE]
+    rng = m.jnt_range[ids]
+    mid, half = rng.mean(axis=1), (rng[:, 1] - rng[:, 0]) / 2
+    return [m.joint(j).name for j in ids], np.stack([mid - MJLAB_SOFT_FACTOR * half, mid + MJLAB_SOFT_FACTOR * half], 1)
+
+
+def frames_outside(names: list[str], joint_pos: np.ndarray) -> int:
+    """Frames with a joint outside mjlab's soft range (1e-9 rad of rounding allowed)."""
+    order, rng = soft_range("g1")
+    cols = [order.index(n) for n in names]
+    lo, hi = rng[cols, 0], rng[cols, 1]
+    return int(np.sum(np.any((joint_pos < lo - 1e-9) | (joint_pos > hi + 1e-9), axis=1)))
+
+
+def pelvis_roll(z) -> tuple[np.ndarray, np.ndarray]:
+    """Pelvis roll (rad, about its forward axis after yaw and pitch) and the angular velocity about its
+    own x axis (rad/s) of each frame."""
+    w, x, y, zz = np.asarray(z["body_quat_w"][:, 0]).T
+    roll = np.arctan2(2 * (w * x + y * zz), 1 - 2 * (x * x + y * y))
+    x_axis = np.stack([1 - 2 * (y * y + zz * zz), 2 * (x * y + w * zz), 2 * (x * zz - w * y)], axis=1)
+    return roll, np.sum(z["body_ang_vel_w"][:, 0] * x_axis, axis=1)
+
+
+def test_g1_walk_export_stays_within_the_soft_range_the_default_ik_leaves(exported, motions):
+    z = np.load(exported("g1-plan", "mjlab-npz"))
+    names = [str(n) for n in z["joint_names"]]
+    assert frames_outside(names, z["joint_pos"]) == 0
+    joints = WholeBodyIK("g1").solve(Trajectory.load(motions["g1-plan"]), rate=100.0)  # the MJCF range only
+    m = plain_model("g1")
+    default = joints.qpos[:, [m.jnt_qposadr[m.joint(n).id] for n in names]]
+    assert frames_outside(names, default) > 10
+
+
+def test_g1_walk_run_walk_export_stays_within_the_soft_range(wrw):
+    z = np.load(wrw[1])
+    assert frames_outside([str(n) for n in z["joint_names"]], z["joint_pos"]) == 0
+
+
+def test_pelvis_roll_of_the_plan_exports_stays_within_the_simulated_runs(exported, wrw):
+    sim_roll, sim_rate = pelvis_roll(np.load(exported("g1-sim", "mjlab-npz")))
+    roll, rate = pelvis_roll(np.load(exported("g1-plan", "mjlab-npz")))
+    assert sim_roll.min() <= roll.min() and roll.max() <= sim_roll.max()
+    assert np.abs(rate).max() <= np.abs(sim_rate).max()
+    roll, rate = pelvis_roll(np.load(wrw[1]))
+    assert np.degrees(np.abs(roll)).max() <= SIM_WRW_ROLL_DEG
+    assert np.abs(rate).max() <= SIM_WRW_ROLL_RATE
+
+
+def test_swing_soles_pitch_only_in_the_air_and_are_flat_in_contact(wrw):
+    plan, z = Trajectory.load(wrw[0]), np.load(wrw[1])
+    t = plan.t[0] + np.arange(len(z["joint_pos"])) / 50.0
+    k = np.minimum(np.searchsorted(plan.t, t - 1e-9), len(plan.t) - 1)
+    contact = plan.contact[k] & plan.contact[np.maximum(k - 1, 0)]  # in contact at and before the frame
+    bodies = [str(b) for b in z["body_names"]]
+    for side, foot in enumerate(("left_ankle_roll_link", "right_ankle_roll_link")):
+        _, x, y, _ = z["body_quat_w"][:, bodies.index(foot)].T
+        tilt = np.arccos(np.clip(1 - 2 * (x * x + y * y), -1, 1))  # sole normal from the vertical
+        assert tilt[contact[:, side]].max() < 0.01
+        assert tilt[~contact[:, side]].max() > np.radians(5)  # the freedom is used in the swings
+
+
+def test_mjlab_npz_has_exactly_its_keys_and_dtypes_and_the_mjcf_joint_order(exported):
+    z = np.load(exported("g1-plan", "mjlab-npz"), allow_pickle=False)
+    assert set(z.files) == MJLAB_KEYS | {"joint_names", "body_names"}
+    assert z["fps"].dtype == np.int64 and z["fps"].tolist() == [50]
+    f, j = z["joint_pos"].shape
+    b = z["body_pos_w"].shape[1]
+    shapes = {"joint_vel": (f, j), "body_quat_w": (f, b, 4), "body_lin_vel_w": (f, b, 3), "body_ang_vel_w": (f, b, 3)}
+    for key, shape in shapes.items():
+        assert z[key].shape == shape and z[key].dtype == np.float64, key
+    assert z["joint_names"].dtype.kind == "U" and z["body_names"].dtype.kind == "U"
+    names, _ = soft_range("g1")
+    assert [str(n) for n in z["joint_names"]] == names  # every non-free joint, MJCF (qpos) order
+
+
+def test_the_base_quaternion_is_w_first_the_robot_upright(exported):
+    q = np.load(exported("g1-plan", "mjlab-npz"))["body_quat_w"][:, 0]
+
+    def up_z(w, x, y, _z):  # z component of the body z axis
+        return 1 - 2 * (x * x + y * y)
+
+    assert up_z(*q.T).min() > np.cos(np.radians(10))  # read as w x y z: upright on every frame
+    assert up_z(*np.roll(q, 1, axis=1).T).max() < 0.5  # read as x y z w: upside down
+
+
+def test_linear_velocities_are_of_the_body_frame_origins(exported):
+    z = np.load(exported("g1-plan", "mjlab-npz"))
+    pos, vel, w = z["body_pos_w"], z["body_lin_vel_w"], z["body_ang_vel_w"]
+    assert np.percentile(linear_difference_error(pos, vel, 50), 95) < P95
+    offset = rotate(z["body_quat_w"], plain_model("g1").body_ipos[1:])  # body origin -> body CoM, world
+    at_com = vel + np.cross(w, offset)  # the velocity of each body's CoM (mj_objectVelocity's point)
+    e = linear_difference_error(pos, at_com, 50)
+    assert np.percentile(e, 95) > P95
