@@ -185,3 +185,20 @@ def test_a_bad_rerun_name_is_one_line_exit_2_and_no_file(tmp_path, capsys):
         err = capsys.readouterr().err
         assert exc.value.code == 2 and err.count("\n") == 1 and "--rerun" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_run_recording_holds_the_controllers_map_from_the_log(motions):
+    """The G1 has a depth camera: the recording's map cloud is the log's final map (one point per
+    seen cell, at the cell's centre and height) and the map under the left sole its logged height."""
+    rec = read(motions["g1-sim-rrd"])
+    log = np.load(motions["g1-sim"])
+    seen = log["map_seen"].astype(bool)
+    (t_map, cloud), *_ = rec["world/elevation_map"]["Points3D:positions"]
+    cloud = np.asarray(cloud, dtype=float)
+    assert t_map == pytest.approx(log["t"][-1], abs=1e-6) and len(cloud) == seen.sum() > 100
+    r, corner = float(log["map_resolution"]), log["map_corner"]
+    ij = np.floor((cloud[:, :2] - corner) / r).astype(int)
+    assert np.abs(cloud[:, 2] - log["map_heights"][ij[:, 0], ij[:, 1]]).max() < 1e-6
+    t, h = series(rec, "timeseries/map/left")
+    known = log["map_known"][:, 0].astype(bool)
+    assert len(t) == known.sum() and np.abs(h - log["map_height"][known, 0]).max() < 1e-9

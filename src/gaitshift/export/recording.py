@@ -100,6 +100,11 @@ class Recording:
             cols = self.rr.Points3D.columns(positions=pos[ok])
             self.rec.send_columns(entity, indexes=self._time(t[ok]), columns=cols)
 
+    def cloud(self, entity: str, t: float, pos: np.ndarray, colors: np.ndarray, radius: float) -> None:
+        """A point cloud (N, 3) with colours (N, 3) uint8, shown from time ``t`` s on."""
+        self.rec.set_time("time", duration=float(t))
+        self.rec.log(entity, self.rr.Points3D(pos, colors=colors, radii=radius))
+
     def events(self, entity: str, t: np.ndarray, codes: np.ndarray, names: tuple[str, ...]) -> None:
         """A text event at each change of the integer ``codes`` (named by ``names``)."""
         change = np.flatnonzero(np.r_[True, codes[1:] != codes[:-1]])

@@ -15,6 +15,10 @@ recording (:mod:`gaitshift.export.recording`), with measured and reference value
 ``world/com``, ``world/feet/...``, ``world/footsteps``  as for a plan (measured)
 ``world/support``                                 convex hull of the soles in measured contact
 ``world/bodies/<body>``                           every body frame, FK of the logged qpos
+``world/elevation_map``                           a robot with a depth camera: the controller's map
+                                                  as the run ended (seen cells at their heights,
+                                                  coloured by height, edges red), at the last tick
+``timeseries/map/{left,right}``                   the map's height under each true sole centre, m
 ================================================  ==============================================
 
 3D frames (body frames, support polygons) are drawn at ``FRAME_RATE`` Hz.
@@ -38,6 +42,9 @@ from gaitshift.export.recording import (
     scenario_name,
     support_polygon,
 )
+
+#: a step between neighbour map cells that marks an edge, m
+EDGE_STEP = 0.04
 
 
 def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> dict[str, Any]:
@@ -80,8 +87,31 @@ def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> di
         ]
         rec.polygons("world/support", t[idx], polys)
         rec.frames(names, t[idx], pos, quat)
+        if "map_heights" in a:
+            _elevation_map(rec, a)
         rec.close()
     return {"ticks": len(t), "frames": len(idx), "bodies": len(names)}
+
+
+def _elevation_map(rec: Recording, a: dict[str, np.ndarray]) -> None:
+    """The controller's map at the run's end, and its height under the soles over the run."""
+    from matplotlib import colormaps
+
+    from gaitshift.control.perception import step_edges
+
+    t = a["t"]
+    for s, side in enumerate(("left", "right")):
+        rec.series(f"timeseries/map/{side}", t, np.where(a["map_known"][:, s], a["map_height"][:, s], np.nan))
+    h, seen = a["map_heights"], a["map_seen"].astype(bool)
+    if not seen.any():
+        return
+    r = float(a["map_resolution"])
+    ij = np.argwhere(seen)
+    pos = np.column_stack([a["map_corner"] + (ij + 0.5) * r, h[seen]])
+    lo, hi = float(h[seen].min()), float(h[seen].max())
+    colors = (255 * colormaps["viridis"]((h[seen] - lo) / max(hi - lo, 1e-3))[:, :3]).astype(np.uint8)
+    colors[step_edges(h, seen, EDGE_STEP)[seen]] = (255, 0, 0)
+    rec.cloud("world/elevation_map", float(t[-1]), pos, colors, r / 2)
 
 
 def _body_frames(robot: Any, qpos: np.ndarray) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
