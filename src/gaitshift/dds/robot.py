@@ -143,7 +143,8 @@ class _Robot:
         plant = build_plant(opts.control_period, opts.robot)
         self.n = check_motor_order(plant.motor_names)
         qpos0 = standing_qpos(plant)
-        self.world = World(plant, qpos0, SimOptions(control_period=opts.control_period, noise=opts.noise), False, 1)
+        sim = SimOptions(control_period=opts.control_period, noise=opts.noise)
+        self.world = World(plant, qpos0, sim, False, 1, depth_camera=False)  # LowState_ carries no depth
         self.dt = self.world.dt
         self.start_xy = qpos0[:2].copy()
         self.summary = RobotSummary()

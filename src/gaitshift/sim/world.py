@@ -65,9 +65,13 @@ class World:
         opts: the run's :class:`~gaitshift.sim.loop.SimOptions` (noise, seed, latency, mass scale, pushes).
         oracle: put the truth into every frame (the controller acts on the oracle).
         n_ticks: ticks of the run (the pushes' table).
+        depth_camera: cast the robot's depth camera (when its YAML has one); a host whose link carries
+            no depth frames (Unitree's ``LowState_``) leaves it off.
     """
 
-    def __init__(self, plant: Plant, qpos0: np.ndarray, opts: Any, oracle: bool, n_ticks: int) -> None:
+    def __init__(
+        self, plant: Plant, qpos0: np.ndarray, opts: Any, oracle: bool, n_ticks: int, depth_camera: bool = True
+    ) -> None:
         self.plant, self.opts, self.oracle = plant, opts, oracle
         # the truth; the controller keeps the nominal model
         self.physics = perturbed_physics(
@@ -89,7 +93,7 @@ class World:
         self.delay = CommandDelay(opts.latency)
         self.contact_sensor = ContactSensor(plant)
         cam = plant.robot.sensors.depth_camera
-        self.camera = None if cam is None else DepthCameraSim(m, cam, self.dt, opts.seed)
+        self.camera = None if cam is None or not depth_camera else DepthCameraSim(m, cam, self.dt, opts.seed)
         self.ground = Terrain.from_list(None)
         self.pelvis0 = float(qpos0[2])
         self.push = push_forces(opts.pushes, opts.settle, self.dt, n_ticks)
