@@ -63,6 +63,12 @@ def simulate_cmd(
         help="Contact sensing: force (sole force sensors; default) or torque (from the motors' torques).",
     ),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
+    terrain: str | None = typer.Option(
+        None,
+        "--terrain",
+        help="What the planner is told of the scenario's terrain: known (default) or blind (it plans on flat"
+        " ground; the world keeps the terrain).",
+    ),
     rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
     video_size: str | None = typer.Option(None, "--video-size", help="Video size WIDTHxHEIGHT, pixels (1280x720)."),
     video_fps: int | None = typer.Option(None, "--video-fps", help="Video frame rate, Hz (30)."),
@@ -84,7 +90,7 @@ def simulate_cmd(
     pushes_given, bumps = perturbation_flags(push, bump)
     if figures is not None:
         figures_folder(figures)
-    prepared = prepare(scenario, robot, control_period)
+    prepared = prepare(scenario, robot, control_period, terrain)
     sc, cfg, driver, traj = prepared
     if driver is None:
         from gaitshift.wholebody.checks import check_joint_speeds

@@ -57,14 +57,25 @@ def driver_for(sc: Any, facts: RobotFacts | None, control_period: float) -> Plan
 
 
 def prepare(
-    scenario: Any, robot: Any = None, control_period: float = 0.002
+    scenario: Any, robot: Any = None, control_period: float = 0.002, terrain: str | None = None
 ) -> tuple[Any, Any, PlanDriver | None, Trajectory]:
     """A scenario on a robot, ready to run: the scenario (a built-in name, a YAML path or a loaded one;
     its robot written in), the robot config (``robot``: a name, a robot YAML path or a
     :class:`gaitshift.robots.RobotConfig`; None: the scenario's, else g1), the driver of its planner
     (:func:`driver_for`) and the plan as known at the start. What a controller is built from and a
     simulation runs (:meth:`gaitshift.control.controller.Controller.from_scenario`,
-    :func:`gaitshift.sim.scenario_run.simulate_scenario`)."""
+    :func:`gaitshift.sim.scenario_run.simulate_scenario`).
+
+    ``terrain`` says what the planner is told of the scenario's ``terrain:``
+    (:data:`gaitshift.scenario.sim_settings.TERRAIN_KNOWLEDGE`; None: the scenario's ``sim: terrain``,
+    else ``known``): ``blind`` plans on flat ground at the height the robot starts on (a blind robot
+    still knows where it stands). The scenario returned keeps its terrain: the world is built on it
+    whatever the planner knows.
+
+    Raises:
+        InputError: an unknown ``terrain``, or ``known`` terrain for a live-command scenario (its
+            generator plans on flat ground).
+    """
     from gaitshift.api import plan, robot_facts, with_robot
     from gaitshift.robots.config import RobotConfig, load_robot
     from gaitshift.scenario import load_scenario
@@ -73,5 +84,40 @@ def prepare(
     given = robot if isinstance(robot, RobotConfig) else None
     sc, robot_name = with_robot(sc, None if given is not None else (None if robot is None else str(robot)))
     cfg = given if given is not None else load_robot(robot_name)
-    driver = driver_for(sc, robot_facts(sc), control_period)
-    return sc, cfg, driver, driver.trajectory if driver is not None else plan(sc)
+    planned = _planned(sc, terrain)
+    driver = driver_for(planned, robot_facts(planned), control_period)
+    return sc, cfg, driver, driver.trajectory if driver is not None else plan(planned)
+
+
+#: half the length, m, of the flat ground a blind planner assumes around the start
+BLIND_REACH = 1000.0
+
+
+def _flat_where_it_stands(pieces: Any) -> tuple[Any, ...]:
+    """The terrain a blind planner assumes: flat at the height of the scenario's ground at x = 0 (the
+    plans' start), as one piece (none when that height is the floor's)."""
+    from gaitshift.scenario.terrain import TerrainPiece, terrain_of
+
+    z0 = float(terrain_of(pieces).height(0.0))
+    return (TerrainPiece(x=(-BLIND_REACH, BLIND_REACH), z=(z0, z0)),) if z0 > 0 else ()
+
+
+def _planned(sc: Any, terrain: str | None) -> Any:
+    """The scenario the planner plans (:func:`prepare`): ``sc`` itself, or without its terrain."""
+    from gaitshift.errors import InputError
+    from gaitshift.scenario.sim_settings import TERRAIN_KNOWLEDGE
+
+    sim = getattr(sc, "sim", None)
+    knowledge = terrain or (sim.terrain if sim is not None else None) or "known"
+    field = "--terrain" if terrain is not None else "sim.terrain"
+    if knowledge not in TERRAIN_KNOWLEDGE:
+        raise InputError(field, knowledge, "one of: " + ", ".join(TERRAIN_KNOWLEDGE))
+    if not getattr(sc, "terrain", ()):
+        return sc
+    if knowledge == "blind":
+        return sc.model_copy(update={"terrain": _flat_where_it_stands(sc.terrain)})
+    if sc.planner == "locomotion":
+        raise InputError(
+            field, knowledge, "blind for a live-command scenario on terrain (its generator plans on flat ground)"
+        )
+    return sc

@@ -30,6 +30,7 @@ from gaitshift.scenario.fields import (
     check_samples,
 )
 from gaitshift.scenario.sim_settings import SimSettings
+from gaitshift.scenario.terrain import TerrainPiece, check_pieces
 
 __all__ = ["Goto", "LocomotionCommand", "LocomotionLimits", "LocomotionScenario", "LocomotionTiming", "Switch"]
 
@@ -145,9 +146,13 @@ class LocomotionScenario(_Strict):
     first_swing: Literal["left", "right"] = "right"
     limits: LocomotionLimits = LocomotionLimits()
     dt: Annotated[float, Strict(), Field(ge=1e-4, le=0.01, allow_inf_nan=False)] = 0.001
+    #: the ground of the simulated world (scenario/terrain.py); the generator plans on flat ground, so
+    #: such a scenario runs with ``sim: {terrain: blind}`` until it plans on what it perceives (issue 29)
+    terrain: tuple[TerrainPiece, ...] = ()
 
     @model_validator(mode="after")
     def _commands_in_order(self) -> LocomotionScenario:
+        check_pieces(self.terrain)
         times = [c.t for c in self.commands]
         if not times:
             raise ValueError("at least one command")

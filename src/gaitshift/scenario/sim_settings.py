@@ -14,6 +14,7 @@ Perturbations (issue 13; the controller is never told them)::
       joint_vel_noise: 0.5       # rad/s, extra uniform joint-velocity sensor noise
       pushes: [{t: 2.0, impulse: [0, 15, 0], duration: 0.1}]   # N s, world frame, from plan time t
       bumps: [{x: 1.5, height: 0.03, length: 0.2}]             # m, box on the floor from x
+      terrain: blind             # the planner is not told the scenario's terrain (TERRAIN_KNOWLEDGE)
 
 The allowed values live here (the lowest layer) and the simulator checks its options against them.
 """
@@ -31,6 +32,10 @@ from gaitshift.scenario.fields import StrictModel
 STATE_SOURCES = ("estimated", "oracle")
 #: where the controller's contact sensing comes from: the soles' force sensors, or the motors' torques
 CONTACT_SOURCES = ("force", "torque")
+#: what the planner is told of the scenario's ``terrain:`` (the world is always built on it): ``known``
+#: (the planner plans on it), ``blind`` (the planner plans on flat ground); ``perceived`` (footholds from
+#: the controller's elevation map) is issue 29's next step and not accepted yet
+TERRAIN_KNOWLEDGE = ("known", "blind")
 #: sensor noise profiles (``none``: exact readings)
 NOISE_PROFILES = ("none", "typical", "rl-peer")
 #: friction coefficients (floor, assumed), inclusive
@@ -103,8 +108,10 @@ class SimSettings(StrictModel):
     pushes: list[PushSettings] | None = None
     bumps: list[BumpSettings] | None = None
     contact: Literal["force", "torque"] | None = None
+    terrain: Literal["known", "blind"] | None = None
 
     def given(self) -> dict[str, Any]:
         """The keys set in the scenario, as ``SimOptions`` keyword arguments (``pushes`` and ``bumps``
-        as lists of plain dicts: the simulator turns them into its own objects)."""
-        return {k: v for k, v in self.model_dump().items() if v is not None}
+        as lists of plain dicts: the simulator turns them into its own objects); ``terrain`` is not
+        one: the planner reads it (:func:`gaitshift.control.drivers.prepare`)."""
+        return {k: v for k, v in self.model_dump().items() if v is not None and k != "terrain"}

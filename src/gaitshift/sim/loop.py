@@ -285,9 +285,11 @@ def simulate(
     hooks: Sequence[TickHook] = (),
     robot: str | Path | RobotConfig = "g1",
     sense_hooks: Sequence[TickHook] = (),
+    ground: Terrain | None = None,
 ) -> SimResult:
     """Run the plan ``traj`` closed-loop on ``robot`` (built-in name, YAML or config; ignored when
-    ``plant`` is given; the plant gets the plan's terrain, ``traj.meta["terrain"]``) and return the
+    ``plant`` is given; the plant gets ``ground``, else the plan's terrain, ``traj.meta["terrain"]``:
+    a planner not told the terrain plans on flat ground the world does not have) and return the
     logged result (see module docstring). To simulate a scenario, use
     :func:`gaitshift.sim.scenario_run.simulate_scenario`, which picks the driver and applies its
     ``sim:`` block.
@@ -302,7 +304,7 @@ def simulate(
     opts = opts or SimOptions()
     if driver is not None:
         traj = driver.trajectory
-    terrain = Terrain.from_list(traj.meta.get("terrain"))  # the plan's ground, built into the scene
+    terrain = ground if ground is not None else Terrain.from_list(traj.meta.get("terrain"))  # the world's ground
     plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain, opts.bumps), opts.friction)
     ctrl = Controller(traj, robot_model(plant.robot, plant.dt), opts.controller_settings(), driver)
     n_ticks = round(ctrl.duration_bound / plant.dt) + 1

@@ -22,6 +22,7 @@ import numpy as np
 from gaitshift.control.drivers import PlanDriver, prepare
 from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig
+from gaitshift.scenario.terrain import terrain_of
 from gaitshift.sim.bumps import Bump
 from gaitshift.sim.loop import SimOptions, TickHook, simulate
 from gaitshift.sim.pushes import Push, mid_stance_pushes
@@ -97,7 +98,8 @@ def run_prepared(
     (:func:`simulate_scenario`)."""
     sc, cfg, drv, plan = prepared
     opts = options_of(plan, scenario_options(sc), options)
-    result = simulate(plan, opts, driver=drv, hooks=hooks, robot=cfg)
+    ground = terrain_of(sc.terrain) if getattr(sc, "terrain", ()) else None  # the world's, known or not
+    result = simulate(plan, opts, driver=drv, hooks=hooks, robot=cfg, ground=ground)
     return ScenarioRun(sc, cfg, drv, plan, result)
 
 
@@ -112,7 +114,9 @@ def simulate_scenario(
     """Simulate ``scenario`` (a built-in name, a YAML path or a loaded scenario) on ``robot`` (default:
     the scenario's, else g1) closed loop (module docstring). ``options`` are :class:`SimOptions` fields
     (None: the scenario's or the default); ``driver`` replaces the scenario's driver (a live session's);
-    ``hooks`` are called after every tick (:func:`gaitshift.sim.loop.simulate`)."""
-    sc, cfg, own, plan = prepare(scenario, robot, options.get("control_period") or 0.002)
+    ``hooks`` are called after every tick (:func:`gaitshift.sim.loop.simulate`); ``terrain`` says what
+    the planner is told of the scenario's terrain (:func:`gaitshift.control.drivers.prepare`)."""
+    terrain = options.pop("terrain", None)
+    sc, cfg, own, plan = prepare(scenario, robot, options.get("control_period") or 0.002, terrain)
     drv = driver if driver is not None else own
     return run_prepared((sc, cfg, drv, drv.trajectory if drv is not None else plan), hooks, **options)
