@@ -53,7 +53,7 @@ def _holds(builder, rng, base: cc.Base, tmp_path: Path) -> contract_sample.Outco
     return outcome
 
 
-@settings(SURFACE, max_examples=80)
+@settings(SURFACE, max_examples=50)
 @given(rng=st.randoms(use_true_random=False))
 def test_locomotion_scenarios_plan_or_refuse_in_one_line(rng, base, tmp_path):
     _holds(cc.locomotion_case, rng, base, tmp_path)
@@ -65,7 +65,7 @@ def test_robot_yamls_check_or_refuse_in_one_line(rng, base, tmp_path):
     _holds(cc.robot_case, rng, base, tmp_path)
 
 
-@settings(SURFACE, max_examples=120)
+@settings(SURFACE, max_examples=80)
 @given(rng=st.randoms(use_true_random=False))
 def test_campaign_specs_expand_or_refuse_in_one_line(rng, base, tmp_path):
     _holds(cc.spec_case, rng, base, tmp_path)
@@ -77,19 +77,19 @@ def test_campaign_reports_over_damaged_folders(rng, base, tmp_path):
     _holds(cc.report_case, rng, base, tmp_path)
 
 
-@settings(SURFACE, max_examples=50)
+@settings(SURFACE, max_examples=40)
 @given(rng=st.randoms(use_true_random=False))
 def test_simulate_flags_are_refused_before_any_simulation(rng, base, tmp_path):
     assert _holds(cf.simulate_case, rng, base, tmp_path).kind == "refused"
 
 
-@settings(SURFACE, max_examples=60)
+@settings(SURFACE, max_examples=40)
 @given(rng=st.randoms(use_true_random=False))
 def test_other_commands_flags_are_refused_before_any_work(rng, base, tmp_path):
     assert _holds(cf.flags_case, rng, base, tmp_path).kind == "refused"
 
 
-@settings(SURFACE, max_examples=80)
+@settings(SURFACE, max_examples=50)
 @given(rng=st.randoms(use_true_random=False))
 def test_output_names_of_every_writer(rng, base, tmp_path):
     _holds(cf.out_name_case, rng, base, tmp_path)
@@ -101,7 +101,7 @@ def test_damaged_joints_files_are_one_line(rng, base, tmp_path):
     assert _holds(cc.joints_case, rng, base, tmp_path).kind == "refused"
 
 
-@settings(SURFACE, max_examples=150)
+@settings(SURFACE, max_examples=120)
 @given(rng=st.randoms(use_true_random=False))
 def test_python_api_ends_in_a_result_or_one_input_error(rng, base, tmp_path):
     _holds(contract_api.api_case, rng, base, tmp_path)
