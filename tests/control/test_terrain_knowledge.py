@@ -1,7 +1,7 @@
 """What the planner is told of a scenario's terrain (``--terrain``, ``sim: {terrain}``): ``blind`` plans
-every foothold at the height the robot starts on while the scenario (so the world) keeps its stairs; ``known`` plans them on
-the treads; a live-command scenario on terrain runs blind (its generator plans on flat ground) and says
-so when asked for ``known``; an unknown value is one line naming the field."""
+every foothold at the height the robot starts on while the scenario (so the world) keeps its stairs;
+``known`` plans them on the treads; a live-command scenario on terrain runs blind (its generator plans
+on flat ground) and says so when asked for ``known``; an unknown value is one line naming the field."""
 
 from __future__ import annotations
 

@@ -97,6 +97,12 @@ def physics_report(traj: Trajectory) -> dict[str, float]:
     dt = traj.dt
     switch = np.zeros(len(traj), bool)
     edges = np.flatnonzero(np.diff(traj.phase) != 0) + 1
+    # a step of a piecewise-constant stiffness T inside a support phase (the TV-LIPM's transition
+    # phases) is a boundary too: a = (p - c)/T^2 - g jumps there. Files without ``boundary_t`` (CSV)
+    # keep that knowledge this way; a T that varies from sample to sample (VHIP) has no isolated step.
+    change = np.diff(np.nan_to_num(traj.stiffness, nan=-1.0)) != 0
+    step = change & ~np.r_[False, change[:-1]] & ~np.r_[change[1:], False]
+    edges = np.r_[edges, np.flatnonzero(step) + 1]
     bt = traj.extras.get("boundary_t")
     if bt is not None:
         edges = np.r_[edges, np.searchsorted(traj.t, np.asarray(bt) - 1e-9)]

@@ -83,11 +83,9 @@ def _spec_of(path: Path) -> dict[str, Any]:
     try:
         spec = yaml.safe_load(path.read_text())
     except (yaml.YAMLError, UnicodeDecodeError, OSError) as exc:
-        raise InputError(
-            "campaign folder", str(path), f"a campaign spec in YAML ({str(exc).splitlines()[0][:80]})"
-        ) from None
+        raise InputError("spec.yaml", str(path), f"a campaign spec in YAML ({str(exc).splitlines()[0][:80]})") from None
     if not isinstance(spec, dict):
-        raise InputError("campaign folder", str(path), "a campaign spec (a YAML mapping)")
+        raise InputError("spec.yaml", str(path), "a campaign spec (a YAML mapping)")
     return spec
 
 
@@ -120,8 +118,10 @@ def _totals(store: Store, rows: list[dict[str, Any]]) -> list[str]:
 def write_report(folder: str | Path) -> list[Path]:
     """Write the report of the campaign in ``folder`` (module docstring); return the files written."""
     store = Store(folder)
-    rows = store.table().to_pylist()
     out = store.root / "report"
+    if out.exists() and not out.is_dir():
+        raise InputError("DIR", str(store.root), f"a campaign folder whose report/ is a folder ({out} is a file)")
+    rows = store.table().to_pylist()
     written: list[Path] = []
     md = _totals(store, rows)
     for x, y, stem in MAPS:

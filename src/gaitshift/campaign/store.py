@@ -113,17 +113,22 @@ class Store:
 
     def table(self) -> pa.Table:
         """Every row written so far, sorted by case hash, in :data:`SCHEMA` (columns a part file of an
-        older version lacks are null; an empty table when there is no row)."""
-        if not self.done():
+        older version lacks are null; an empty table when there is no row). Only the ``*.parquet``
+        files of ``parts/`` are read (a stray note or a hidden temporary file there is not a row).
+
+        Raises:
+            InputError: naming the first part file that is not a readable row of this schema.
+        """
+        files = sorted(p for p in self.parts.glob("*.parquet") if p.is_file()) if self.parts.is_dir() else []
+        if not files:
             return SCHEMA.empty_table()
         try:
-            dataset = ds.dataset(self.parts, format="parquet", schema=SCHEMA)  # skips ".tmp" names
+            dataset = ds.dataset([str(p) for p in files], format="parquet", schema=SCHEMA)
             return dataset.to_table().sort_by("case_hash")
-        except (pa.ArrowInvalid, pa.ArrowTypeError, OSError) as exc:
+        except (pa.ArrowInvalid, pa.ArrowTypeError, pa.ArrowNotImplementedError, OSError) as exc:
+            bad, why = next(((p, e) for p in files if (e := _unreadable(p)) is not None), (self.parts, exc))
             raise InputError(
-                "campaign folder",
-                str(self.root),
-                f"part files written by a campaign ({str(exc).splitlines()[0][:100]})",
+                f"parts/{bad.name}", str(bad), f"part files written by a campaign ({_first_line(why)})"
             ) from None
 
     def finish(self, expected: set[str]) -> bool:
@@ -150,3 +155,18 @@ class Store:
             w.writerow([robot, r["plan_gaits"], r["speed"], r["yaw_rate"], r["plan_duration"], r["motion_file"]])
         with atomic_path(self.root / "index.csv") as tmp:
             tmp.write_text(buf.getvalue())
+
+
+def _unreadable(path: Path) -> BaseException | None:
+    """Why the part file ``path`` is not one row of :data:`SCHEMA` (None: it is)."""
+    try:
+        ds.dataset(str(path), format="parquet", schema=SCHEMA).to_table()
+    except (pa.ArrowInvalid, pa.ArrowTypeError, pa.ArrowNotImplementedError, OSError) as exc:
+        return exc
+    return None
+
+
+def _first_line(exc: BaseException) -> str:
+    """The first line of an exception's message, at most 100 characters."""
+    lines = str(exc).strip().splitlines()
+    return (lines[0] if lines else type(exc).__name__)[:100]

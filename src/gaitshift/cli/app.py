@@ -45,6 +45,7 @@ def out_folder(path: Path, flag: str) -> Path:
     Raises:
         InputError: naming ``flag``, the path and what is allowed.
     """
+    check_name(path / "x", flag)  # the folder's own name and the path, with room for the files inside
     if path.exists() and not path.is_dir():
         raise InputError(flag, str(path), "a folder (it is created if missing); this is a file")
     _writable(path, path, flag)

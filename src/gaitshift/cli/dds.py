@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import json
+import socket
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -12,10 +13,24 @@ from typing import TYPE_CHECKING
 import typer
 
 from gaitshift.cli.app import app, out_file
+from gaitshift.errors import InputError
 
 if TYPE_CHECKING:
     from gaitshift.control.controller import Controller
     from gaitshift.dds.brain_options import BrainSummary
+
+
+def network_interface(iface: str) -> str:
+    """``--iface``: a network interface of this machine, checked before any DDS participant opens.
+
+    Raises:
+        InputError: naming ``--iface`` and the interfaces there are.
+    """
+    names = [name for _, name in socket.if_nameindex()]
+    if iface not in names:
+        raise InputError("--iface", iface, "a network interface of this machine: " + ", ".join(names))
+    return iface
+
 
 dds_app = typer.Typer(help="Unitree's low-level DDS protocol (hg messages, the G1).", no_args_is_help=True)
 app.add_typer(dds_app, name="dds")
@@ -39,9 +54,13 @@ def dds_robot_cmd(
     from gaitshift.common.atomic import atomic_path
     from gaitshift.common.jsonsafe import finite_json
     from gaitshift.dds.robot import RobotOptions, run_robot
+    from gaitshift.scenario.sim_settings import NOISE_PROFILES
 
     if summary is not None:
         out_file(summary, "--summary", (".json",))
+    network_interface(iface)
+    if noise not in NOISE_PROFILES:
+        raise InputError("--noise", noise, "one of: " + ", ".join(NOISE_PROFILES))
     opts = RobotOptions(
         robot=robot,
         domain=domain,
@@ -109,6 +128,7 @@ def dds_control_cmd(
     from gaitshift.dds.brain import BrainOptions, build_controller, run_brain
     from gaitshift.dds.warmup import warm_up
 
+    network_interface(iface)
     opts = BrainOptions(
         scenario=scenario,
         robot=robot,
@@ -214,6 +234,7 @@ def dds_cmd_cmd(
     number_in("--repeat", repeat, (1, 1000))
     number_in("--wait", wait, (0.0, 600.0), "s")
     check_domain(domain)
+    network_interface(iface)
     if teleop:
         _teleop(domain, iface)
         return

@@ -7,7 +7,8 @@ from typing import Any
 
 import typer
 
-from gaitshift.cli.app import app, out_file
+from gaitshift.cli.app import app, flags_named, out_file, out_folder
+from gaitshift.errors import InputError
 
 _ROBOT_HELP = (
     "Built-in robot name (g1, t1, h1, op3, berkeley) or robot YAML path (default: the robot the scenario "
@@ -87,10 +88,12 @@ def animate_cmd(
     from gaitshift.wholebody.render import animate
 
     out_file(out, "--out", (".mp4",))
-    jt = JointTrajectory.load(joints) if joints is not None else None
+    with flags_named({"file": "--joints"}):
+        jt = JointTrajectory.load(joints) if joints is not None else None
     traj = load_plan(file)
     name = plan_robot(traj, robot)
-    path, _ = animate(traj, out, robot=name, rate=rate, fps=fps, width=width, height=height, joints=jt)
+    with flags_named({"rate": "--rate", "fps": "--fps", "size": "--width/--height"}):
+        path, _ = animate(traj, out, robot=name, rate=rate, fps=fps, width=width, height=height, joints=jt)
     typer.echo(f"wrote {path}")
 
 
@@ -169,6 +172,9 @@ def robot_tune_cmd(
     out_file(out, "--out", (".yaml", ".yml"))
     if report is not None:
         out_file(report, "--report", (".md",))
+    out_folder(work, "--work")
+    if workers is not None and workers < 1:  # before any candidate is written into --work
+        raise InputError("--workers", workers, "an integer >= 1")
     result = tune(robot, work, check_seeds(seed), workers)
     with atomic_path(out) as tmp:
         tmp.write_text(

@@ -10,7 +10,7 @@ from typing import Any
 
 import typer
 
-from gaitshift.cli.app import app, out_file
+from gaitshift.cli.app import app, flags_named, out_file, out_folder
 from gaitshift.cli.web import web_port_option, web_view
 from gaitshift.errors import InputError
 
@@ -81,6 +81,7 @@ def simulate_cmd(
     own robot is an error (scale the scenario first: `gaitshift scale`). Before the run, the robot's
     joint-speed limits are checked against the plan's whole-body motion (IK)."""
     from gaitshift.control.drivers import prepare
+    from gaitshift.robots.model import check_period
     from gaitshift.sim.scenario_run import run_prepared
 
     sensing: dict[str, Any] = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency}
@@ -90,7 +91,9 @@ def simulate_cmd(
     pushes_given, bumps = perturbation_flags(push, bump)
     if figures is not None:
         figures_folder(figures)
-    prepared = prepare(scenario, robot, control_period, terrain)
+    with flags_named({"control_period": "--control-period"}):
+        check_period(control_period)  # before planning: a period of 0 ended in ZeroDivisionError
+        prepared = prepare(scenario, robot, control_period, terrain)
     sc, cfg, driver, traj = prepared
     if driver is None:
         from gaitshift.wholebody.checks import check_joint_speeds
@@ -118,10 +121,9 @@ def numbers(flag: str, text: str | None, n: int) -> tuple[float, ...] | None:
 
 
 def figures_folder(path: Path) -> Path:
-    """``--figures``: a folder (made when missing), checked before the run; a file there is one line."""
-    if path.exists() and not path.is_dir():
-        raise InputError("--figures", str(path), "a folder (this is a file)")
-    return path
+    """``--figures``: a folder (made when missing), checked before the run (a file there, a name too long,
+    no writable location: one line)."""
+    return out_folder(path, "--figures")
 
 
 @dataclass(frozen=True)

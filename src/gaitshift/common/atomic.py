@@ -13,24 +13,47 @@ from pathlib import Path
 
 from gaitshift.errors import InputError
 
-#: the longest file name the tools write, bytes: the file system's usual limit (255) less the
-#: temporary name's prefix and random part (``.NAME.xxxxxxxx``)
-MAX_NAME = 240
-#: the longest path, bytes (Linux's PATH_MAX, 4096, less room for the temporary name)
-MAX_PATH = 4000
+#: room a file's name leaves for its temporary name (``.NAME.xxxxxxxx``), bytes
+TEMP_ROOM = 15
+#: the limits when the file system does not say (Linux's NAME_MAX and PATH_MAX), bytes
+NAME_MAX, PATH_MAX = 255, 4096
+#: the longest file name the tools write where the file system allows NAME_MAX (255), bytes
+MAX_NAME = NAME_MAX - TEMP_ROOM
+
+
+def fs_limits(path: Path) -> tuple[int, int]:
+    """(NAME_MAX, PATH_MAX) of the file system holding ``path``'s nearest existing folder, bytes
+    (``os.pathconf``; :data:`NAME_MAX`, :data:`PATH_MAX` when it does not say)."""
+    base = path.absolute()
+    while not _is_dir(base) and base != base.parent:
+        base = base.parent
+    try:
+        return int(os.pathconf(base, "PC_NAME_MAX")), int(os.pathconf(base, "PC_PATH_MAX"))
+    except (OSError, ValueError):
+        return NAME_MAX, PATH_MAX
+
+
+def _is_dir(path: Path) -> bool:
+    """``path`` is a folder (False also when the name is too long to look up)."""
+    try:
+        return path.is_dir()
+    except OSError:
+        return False
 
 
 def check_name(path: Path, field: str) -> None:
     """:class:`InputError` naming ``field`` when a name in ``path`` (the file's or a folder's) is longer
-    than the file system allows (the file's: :data:`MAX_NAME` bytes, room left for its temporary file;
-    a folder's: 255 bytes), or the whole path longer than :data:`MAX_PATH` bytes."""
+    than the file system allows (its NAME_MAX; the file's less :data:`TEMP_ROOM`, the room for its
+    temporary file), or the whole path, made absolute, longer than its PATH_MAX less that room."""
+    name_max, path_max = fs_limits(path)
     *folders, name = path.parts or ("",)
-    for part, limit in [*((p, 255) for p in folders), (name, MAX_NAME)]:
+    for part, limit in [*((p, name_max) for p in folders), (name, name_max - TEMP_ROOM)]:
         size = len(part.encode())
         if size > limit:
             raise InputError(field, f"{part[:40]}... ({size} bytes)", f"names of at most {limit} bytes in the path")
-    if len(str(path).encode()) > MAX_PATH:
-        raise InputError(field, f"{str(path)[:40]}...", f"a path of at most {MAX_PATH} bytes")
+    size, limit = len(str(path.absolute()).encode()), path_max - TEMP_ROOM
+    if size > limit:
+        raise InputError(field, f"{str(path)[:40]}... ({size} bytes)", f"a path of at most {limit} bytes")
 
 
 @contextlib.contextmanager

@@ -11,7 +11,6 @@ capture-point step feedback of :mod:`gaitshift.control.feedback`.
 from __future__ import annotations
 
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
@@ -80,7 +79,7 @@ def prepare(
     from gaitshift.robots.config import RobotConfig, load_robot
     from gaitshift.scenario import load_scenario
 
-    sc = load_scenario(scenario) if isinstance(scenario, str | Path) else scenario
+    sc = load_scenario(scenario)  # a name, a path, a dict or a loaded scenario; anything else is refused
     given = robot if isinstance(robot, RobotConfig) else None
     sc, robot_name = with_robot(sc, None if given is not None else (None if robot is None else str(robot)))
     cfg = given if given is not None else load_robot(robot_name)

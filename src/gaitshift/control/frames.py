@@ -16,6 +16,7 @@ with ``q_meas``, ``dq_meas`` its own encoder readings; torque control is ``kp = 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -105,7 +106,7 @@ class SensorFrame:
         """A frame from user values, each checked: finite, of its shape (``n_motors`` per motor);
         :class:`InputError` naming the field otherwise."""
         t = fields.get("t")
-        if isinstance(t, bool) or not isinstance(t, int | float | np.floating) or not np.isfinite(t) or t < 0:
+        if isinstance(t, bool) or not isinstance(t, int | float | np.floating) or not 0 <= t < math.inf:
             raise InputError("SensorFrame.t", t, "a finite time >= 0 s")
         out: dict[str, Any] = {"t": float(t)}
         for name, size in (("imu_quat", 4), ("imu_gyro", 3), ("imu_acc", 3)):

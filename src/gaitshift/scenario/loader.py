@@ -12,6 +12,7 @@ scenario holds it as an absolute path.
 from __future__ import annotations
 
 from importlib import resources
+from os import PathLike
 from pathlib import Path
 from typing import Any
 
@@ -42,14 +43,20 @@ def builtin_text(name: str) -> str:
 
 
 def load_scenario(name_or_path: str | Path | dict[str, Any]) -> Any:
-    """Load a scenario from a built-in name, a YAML path, or a dict; validate it.
+    """Load a scenario from a built-in name, a YAML path, or a dict; validate it. A scenario already
+    loaded (a model of :data:`SCHEMAS`) is returned as is.
 
     Returns the scenario model of its planner (:data:`SCHEMAS`).
 
     Raises:
-        ScenarioError: unknown name, missing or unreadable file, invalid YAML, unknown key, or a value
-            out of range.
+        ScenarioError: not one of those kinds, unknown name, missing or unreadable file, invalid YAML,
+            unknown key, or a value out of range.
     """
+    if isinstance(name_or_path, tuple(SCHEMAS.values())):
+        return name_or_path
+    if not isinstance(name_or_path, str | PathLike | dict) or isinstance(name_or_path, bytes):
+        kinds = "a built-in name, a YAML path, a dict or a loaded scenario"
+        raise ScenarioError("scenario", short_repr(name_or_path), kinds)
     if isinstance(name_or_path, dict):
         data, origin = dict(name_or_path), None
     else:

@@ -26,6 +26,7 @@ import re
 import zipfile
 import zlib
 from collections.abc import Callable
+from os import PathLike
 from pathlib import Path
 from typing import Any
 
@@ -131,6 +132,8 @@ def read(path: str | Path) -> tuple[dict[str, np.ndarray], Any]:
         InputError: the suffix is not one of :data:`SUFFIXES` (field ``file``).
         TrajectoryFileError: no such file, a folder, unreadable, or bytes that are not that format.
     """
+    if not isinstance(path, str | PathLike) or isinstance(path, bytes):
+        raise InputError("file", path, "a path (str or os.PathLike) of a .npz, .csv or .json file")
     path = Path(path)
     decode = READERS[check_suffix(path, "file")]
     src = str(path)

@@ -202,10 +202,7 @@ def render_video(
     out = Path(out)
     if out.suffix.lower() != ".mp4":
         raise InputError("out", str(out), "a file ending in .mp4")
-    if width % 2 or height % 2 or not (16 <= width <= 1920 and 16 <= height <= 1080):
-        raise InputError("size", f"{width}x{height}", "even width 16..1920 and height 16..1080 pixels")
-    if not (0 < fps <= 240):
-        raise InputError("fps", fps, "0 < fps <= 240")
+    check_video_options(fps, width, height)
     robot = load_robot(robot if robot is not None else joints.meta.get("robot", "g1"))
     requested = os.environ.get("MUJOCO_GL", "").lower()
     order = [requested] if requested in BACKENDS else []
@@ -231,6 +228,18 @@ def render_video(
     return out
 
 
+def check_video_options(fps: float, width: int, height: int) -> None:
+    """The video's rate (Hz) and size (pixels), checked before any work.
+
+    Raises:
+        InputError: ``size`` not even width 16..1920 and height 16..1080, or ``fps`` not in (0, 240].
+    """
+    if width % 2 or height % 2 or not (16 <= width <= 1920 and 16 <= height <= 1080):
+        raise InputError("size", f"{width}x{height}", "even width 16..1920 and height 16..1080 pixels")
+    if not (0 < fps <= 240):
+        raise InputError("fps", fps, "0 < fps <= 240")
+
+
 def animate(
     source: Any,
     out: str | Path,
@@ -246,6 +255,7 @@ def animate(
     from gaitshift.wholebody.ik import wholebody
     from gaitshift.wholebody.joints import load_plan, subsample
 
+    check_video_options(fps, width, height)
     traj = load_plan(source)
     if joints is None:
         joints = wholebody(traj, robot, rate=rate)

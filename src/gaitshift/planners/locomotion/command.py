@@ -17,7 +17,10 @@ thresholds from the robot's leg length (Froude number).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
+from numbers import Real
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -27,9 +30,19 @@ from gaitshift.models.arrays import FloatArray
 from gaitshift.planners.locomotion.params import Limits
 from gaitshift.planners.locomotion.steps import Gait
 
-__all__ = ["Clamp", "clamp_command", "next_gait", "ramp"]
+__all__ = ["MAX_VALUE", "Clamp", "clamp_command", "finite_real", "next_gait", "ramp"]
 
 NAMES = ("command.vx", "command.vy", "command.yaw_rate")
+#: largest magnitude of a command component or a goal coordinate (m/s, rad/s, m, rad) the generator takes
+MAX_VALUE = 1e6
+
+
+def finite_real(field: str, value: Any, allowed: str) -> float:
+    """``value`` as a float when it is a real number (not a bool) of magnitude <= :data:`MAX_VALUE`,
+    else the :class:`InputError` naming ``field`` (``allowed`` says the unit)."""
+    if isinstance(value, bool) or not isinstance(value, Real) or not abs(float(value)) <= MAX_VALUE:
+        raise InputError(field, value, f"a finite number of magnitude <= {MAX_VALUE:g} ({allowed})")
+    return float(value)
 
 
 @dataclass(frozen=True)
@@ -42,7 +55,7 @@ class Clamp:
     reason: str
 
 
-def clamp_command(cmd: npt.ArrayLike, limits: Limits, stride_speed: FloatArray) -> tuple[FloatArray, list[Clamp]]:
+def clamp_command(cmd: Iterable[Any], limits: Limits, stride_speed: FloatArray) -> tuple[FloatArray, list[Clamp]]:
     """Clamp (vx, vy, yaw_rate) to the limits; return the applied command (3,) and the clamps.
 
     ``stride_speed`` (3,) holds the largest |vx|, |vy| and |yaw rate| that the foothold limits allow
@@ -51,10 +64,7 @@ def clamp_command(cmd: npt.ArrayLike, limits: Limits, stride_speed: FloatArray) 
     Raises:
         InputError: a non-finite component (names the field).
     """
-    req = np.asarray(cmd, dtype=np.float64).reshape(3)
-    for name, val in zip(NAMES, req, strict=True):
-        if not math.isfinite(val):
-            raise InputError(name, float(val), "a finite number (m/s for vx, vy; rad/s for yaw_rate)")
+    req = np.array([finite_real(n, v, "m/s for vx, vy; rad/s for yaw_rate") for n, v in zip(NAMES, cmd, strict=True)])
     lo = np.array([-limits.max_speed[1], -limits.max_speed[2], -limits.max_yaw_rate])
     hi = np.array([limits.max_speed[0], limits.max_speed[2], limits.max_yaw_rate])
     names = ["limits.max_speed", "limits.max_speed", "limits.max_yaw_rate"]

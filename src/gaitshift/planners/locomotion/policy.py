@@ -22,9 +22,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from gaitshift.errors import InputError
 from gaitshift.models.arrays import FloatArray
-from gaitshift.planners.locomotion.command import clamp_command, next_gait, ramp
+from gaitshift.planners.locomotion.command import clamp_command, finite_real, next_gait, ramp
 from gaitshift.planners.locomotion.goto import Goal, goto_command
 from gaitshift.planners.locomotion.orbit import Orbit, feasible_yaw_rate
 from gaitshift.planners.locomotion.params import LocomotionParams
@@ -95,9 +94,9 @@ class TargetPolicy:
         Raises:
             InputError: a non-finite value (names the field).
         """
-        for name, val in (("goto.x", x), ("goto.y", y), ("goto.yaw", yaw)):
-            if not math.isfinite(val):
-                raise InputError(name, float(val), "a finite number (m, or rad for yaw)")
+        x, y, yaw = (
+            finite_real(n, v, "m, or rad for yaw") for n, v in (("goto.x", x), ("goto.y", y), ("goto.yaw", yaw))
+        )
         if self.stopping or ended:
             self._event("ignored", "goto", 0.0, 0.0, "stop requested")
             return

@@ -11,6 +11,7 @@ far, from which each generator builds its trajectory file).
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from numbers import Integral
 
 from gaitshift.errors import InputError
 from gaitshift.planners.streaming.clock import SampleClock
@@ -18,7 +19,10 @@ from gaitshift.planners.streaming.events import Event
 from gaitshift.planners.streaming.samples import Samples
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["StreamingGenerator"]
+__all__ = ["MAX_TICKS", "StreamingGenerator"]
+
+#: most control ticks one :meth:`StreamingGenerator.advance` call emits (1000 s at 1 ms)
+MAX_TICKS = 1_000_000
 
 
 class StreamingGenerator(SampleClock, ABC):
@@ -68,10 +72,11 @@ class StreamingGenerator(SampleClock, ABC):
         """Advance ``n`` control ticks (``n * dt`` s), planning on the way; returns their samples.
 
         Raises:
-            InputError: ``n`` < 1.
+            InputError: ``n`` not an integer in [1, :data:`MAX_TICKS`].
         """
-        if n < 1:
-            raise InputError("ticks", n, "an integer >= 1")
+        if isinstance(n, bool) or not isinstance(n, Integral) or not 1 <= n <= MAX_TICKS:
+            raise InputError("ticks", n, f"an integer in [1, {MAX_TICKS:,}] (call again for more)")
+        n = int(n)
         blocks = []
         while n > 0:
             m = self._block(n)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -66,14 +65,18 @@ class Replanner:
         """Re-solve the horizontal plan from time ``t`` (s) with measured CoM ``p_xy``, ``v_xy`` (2,).
 
         Raises:
+            InputError: ``t`` outside [0, start of the closing stand), ``p_xy`` or ``v_xy`` not 2 finite
+                numbers of magnitude <= :data:`MAX_POSITION` m / :data:`MAX_SPEED` m/s.
             InfeasibleError: the measured state cannot be brought to rest at the goal with the ZMP
                 inside eq. (7)'s boxes (the robot needs other footsteps).
         """
-        p_xy, v_xy = _measured("p_xy", p_xy), _measured("v_xy", v_xy)
-        if isinstance(t, bool) or not isinstance(t, int | float | np.floating) or not math.isfinite(t):
-            raise InputError("t", t, "a finite time, s")
+        p_xy, v_xy = _measured("p_xy", p_xy, MAX_POSITION), _measured("v_xy", v_xy, MAX_SPEED)
         tb = self.seq.boundary_times
-        t = float(np.clip(t, 0.0, tb[-1] - 1e-6))
+        if isinstance(t, bool) or not isinstance(t, int | float | np.floating) or not 0.0 <= t < tb[-2]:
+            raise InputError(
+                "t", t, f"a time in [0, {tb[-2]:g}) s (before the closing stand: nothing is left to re-plan)"
+            )
+        t = float(t)
         k = int(np.clip(np.searchsorted(tb, t, side="right") - 1, 0, len(self.seq.phases) - 1))
         first = self.seq.phases[k]
         phases = (Phase(first.kind, float(tb[k + 1] - t), first.stiffness, first.on), *self.seq.phases[k + 1 :])
@@ -129,7 +132,12 @@ class Replanner:
     def reference(self, t: FloatLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """CoM position, velocity, acceleration and ZMP (each (len(t), 3)) of the current plan at
         absolute times ``t`` >= the last re-planning time. The ZMP is NaN in flight."""
-        t = np.atleast_1d(np.asarray(t, float))
+        try:
+            t = np.atleast_1d(np.asarray(t, float))
+        except (TypeError, ValueError):
+            raise InputError("t", t, "finite times, s") from None
+        if t.ndim != 1 or not np.all(np.isfinite(t)):
+            raise InputError("t", t, "finite times, s (a number or a 1-D sequence)")
         tb = self._t0 + self._seq.boundary_times
         K = len(self._seq.phases)
         k = np.clip(np.searchsorted(tb, t + 1e-12, side="right") - 1, 0, K - 1)
@@ -137,12 +145,20 @@ class Replanner:
         return evaluate(self._seq, self._bp, k, s, self.g)
 
 
-def _measured(field: str, value: Any) -> np.ndarray:
-    """A measured horizontal CoM quantity: 2 finite numbers (m or m/s), else :class:`InputError`."""
+#: largest measured horizontal CoM position, m, and speed, m/s, a re-plan accepts (beyond them the
+#: hyperbolic terms of eq. (1) overflow to NaN references; no robot is there)
+MAX_POSITION = 1e4
+MAX_SPEED = 100.0
+
+
+def _measured(field: str, value: Any, bound: float) -> np.ndarray:
+    """A measured horizontal CoM quantity: 2 finite numbers of magnitude <= ``bound`` (m or m/s), else
+    :class:`InputError`."""
+    allowed = f"2 finite numbers of magnitude <= {bound:g}"
     try:
         a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, value, "2 finite numbers") from None
-    if a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise InputError(field, value, "2 finite numbers")
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(field, value, allowed) from None
+    if a.shape != (2,) or not np.all(np.abs(a) <= bound):
+        raise InputError(field, value, allowed)
     return a
