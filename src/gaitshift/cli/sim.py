@@ -80,8 +80,6 @@ def simulate_cmd(
     The robot is the scenario's ``robot``, else --robot, else g1; a --robot other than the scenario's
     own robot is an error (scale the scenario first: `gaitshift scale`). Before the run, the robot's
     joint-speed limits are checked against the plan's whole-body motion (IK)."""
-    from gaitshift.control.drivers import prepare
-    from gaitshift.robots.model import check_period
     from gaitshift.sim.scenario_run import run_prepared
 
     sensing: dict[str, Any] = {"state": state, "noise": noise, "noise_scale": noise_scale, "latency": latency}
@@ -91,19 +89,31 @@ def simulate_cmd(
     pushes_given, bumps = perturbation_flags(push, bump)
     if figures is not None:
         figures_folder(figures)
-    with flags_named({"control_period": "--control-period"}):
-        check_period(control_period)  # before planning: a period of 0 ended in ZeroDivisionError
-        prepared = prepare(scenario, robot, control_period, terrain)
+    prepared = checked_plan(scenario, robot, control_period, terrain)
     sc, cfg, driver, traj = prepared
-    if driver is None:
-        from gaitshift.wholebody.checks import check_joint_speeds
-
-        check_joint_speeds(cfg, traj)
     given = flags | ({"bumps": bumps} if bumps else {}) | ({"pushes": pushes_given} if push else {})
     given |= {"control_period": control_period, "video": str(video) if video else None, "viewer": viewer or None}
     with web_view(web, web_port, lambda: driver.trajectory if driver else traj, as_json, realtime=True) as views:
         run = run_prepared(prepared, hooks=views, **given)
     report(run.result, run.trajectory, cfg, driver, ReportFiles(out, video, rerun, figures), as_json, sc.name)
+
+
+def checked_plan(scenario: str, robot: str | None, control_period: float, terrain: str | None) -> Any:
+    """What :func:`gaitshift.control.drivers.prepare` returns, the control period checked first (a
+    period of 0 ended in ZeroDivisionError) and, for a plan run as planned, the robot's joint-speed
+    limits checked against its whole-body motion (IK)."""
+    from gaitshift.control.drivers import prepare
+    from gaitshift.robots.model import check_period
+
+    with flags_named({"control_period": "--control-period"}):
+        check_period(control_period)
+        prepared = prepare(scenario, robot, control_period, terrain)
+    _, cfg, driver, traj = prepared
+    if driver is None:
+        from gaitshift.wholebody.checks import check_joint_speeds
+
+        check_joint_speeds(cfg, traj)
+    return prepared
 
 
 def numbers(flag: str, text: str | None, n: int) -> tuple[float, ...] | None:
