@@ -16,6 +16,7 @@ import json
 import math
 import os
 import re
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -35,6 +36,9 @@ from gaitshift.scenario.loader import SCHEMAS
 from gaitshift.trajectory import formats
 from gaitshift.trajectory.contract import CONTRACT_KEYS
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+from contract_cases import TVLIP, VHIP  # the contract sample's base inputs: one copy
+
 FUZZ = settings(
     derandomize=True,
     deadline=None,
@@ -50,27 +54,6 @@ FUZZ = settings(
 #: examples per property (sum >= 500; the 18 out-path cases are all there are)
 EXAMPLES = {"scenario": 400, "trajectory": 500, "script": 120, "stiffness": 120, "out": 18}
 
-TVLIP = {
-    "gait": [{"gait": "walk", "steps": 1}, {"gait": "run", "steps": 2}, {"gait": "walk", "steps": 1}],
-    "timing": {"single_support": 0.4, "double_support": 0.15, "flight": 0.15, "start": 0.5, "stop": 0.5},
-    "foot": {"size": [0.22, 0.12], "zmp_margin": 0.01, "zmp_z": [0.0, 0.0]},
-    "profile": {"max_stride": 0.4, "accelerate_steps": 1, "decelerate_steps": 1, "step_width": 0.2},
-    "limits": {"max_stride": 1.0, "max_step_height": 0.25},
-    "height": 0.95,
-    "dt": 0.01,
-}
-VHIP = {
-    "planner": "vhip",
-    "dt": 0.004,
-    "step_period": 0.4,
-    "stance_ratio": 0.7,
-    "start_double_support": 0.4,
-    "stop_double_support": 0.4,
-    "heights": {"stand": 0.8, "touchdown": 0.8, "takeoff": 0.8, "z_low": 0.76},
-    "commands": [{"t": 0.0, "vx": 0.3, "vy": 0.0}, {"t": 0.4, "vx": 0.6, "vy": 0.1}],
-    "stop_at": 0.8,
-    "limits": {"max_speed": [1.5, 0.2], "max_stride": 0.8, "max_accel_per_step": [0.3, 0.2]},
-}
 BASES = {"tvlip": TVLIP, "vhip": VHIP}
 
 NUMBERS = [0, -1, 1, 2, 0.5, -0.0, 1e-300, 1e300, -1e300, 1e9, 2**63, 10**30, math.nan, math.inf, -math.inf]
