@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from gaitshift.control.perception import step_edges
-from gaitshift.plots.perception import EDGE_STEP, perception_figure
+from gaitshift.control.perception import EDGE_STEP, step_edges
+from gaitshift.plots.perception import perception_figure
 
 
 def test_the_map_figure_is_written_and_marks_the_step(tmp_path):

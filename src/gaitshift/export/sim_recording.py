@@ -43,9 +43,6 @@ from gaitshift.export.recording import (
     support_polygon,
 )
 
-#: a step between neighbour map cells that marks an edge, m
-EDGE_STEP = 0.04
-
 
 def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> dict[str, Any]:
     """Write the recording of the run ``result`` (a :class:`~gaitshift.sim.result.SimResult`) of the
@@ -97,20 +94,18 @@ def _elevation_map(rec: Recording, a: dict[str, np.ndarray]) -> None:
     """The controller's map at the run's end, and its height under the soles over the run."""
     from matplotlib import colormaps
 
-    from gaitshift.control.perception import step_edges
+    from gaitshift.control.perception import seen_cells
 
     t = a["t"]
     for s, side in enumerate(("left", "right")):
         rec.series(f"timeseries/map/{side}", t, np.where(a["map_known"][:, s], a["map_height"][:, s], np.nan))
-    h, seen = a["map_heights"], a["map_seen"].astype(bool)
+    seen = a["map_seen"].astype(bool)
     if not seen.any():
         return
     r = float(a["map_resolution"])
-    ij = np.argwhere(seen)
-    pos = np.column_stack([a["map_corner"] + (ij + 0.5) * r, h[seen]])
-    lo, hi = float(h[seen].min()), float(h[seen].max())
-    colors = (255 * colormaps["viridis"]((h[seen] - lo) / max(hi - lo, 1e-3))[:, :3]).astype(np.uint8)
-    colors[step_edges(h, seen, EDGE_STEP)[seen]] = (255, 0, 0)
+    pos, shade, edge = seen_cells(a["map_heights"], seen, a["map_corner"], r)
+    colors = (255 * colormaps["viridis"](shade)[:, :3]).astype(np.uint8)
+    colors[edge] = (255, 0, 0)
     rec.cloud("world/elevation_map", float(t[-1]), pos, colors, r / 2)
 
 

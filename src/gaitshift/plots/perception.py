@@ -6,8 +6,8 @@ camera, :class:`gaitshift.sim.log.PerceptionLog`): the map as the run ended (``m
 ``contact``. Two panels:
 
 * top view: the map's heights (unseen cells blank), the cells on an edge (a neighbour more than
-  :data:`EDGE_STEP` m away, :func:`gaitshift.control.perception.step_edges`) in grey, and the
-  true sole centres where each sole stood;
+  :data:`gaitshift.control.perception.EDGE_STEP` m away, :func:`gaitshift.control.perception.step_edges`)
+  in grey, and the true sole centres where each sole stood;
 * side view: along x, the map's cells within :data:`BAND` m of the path's centre line (dots) and the
   true soles' heights while they stood (the ground they stood on).
 """
@@ -23,13 +23,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from gaitshift.control.perception import step_edges
+from gaitshift.control.perception import EDGE_STEP, step_edges
 from gaitshift.plots.files import save_figure
 
-__all__ = ["BAND", "EDGE_STEP", "perception_figure"]
+__all__ = ["BAND", "perception_figure"]
 
-#: a step between neighbour cells that marks an edge, m
-EDGE_STEP = 0.04
 #: half-width of the side view's band around the path's centre line, m
 BAND = 0.15
 

@@ -49,8 +49,8 @@ TRAIL = 90
 GAITS = ("stand", "walk", "run")
 #: slider step of the command sliders (m/s, rad/s)
 SLIDER_STEP = 0.05
-#: the map is redrawn every this many frames; a step between neighbour cells that marks an edge, m
-MAP_EVERY, MAP_EDGE_STEP = 15, 0.04
+#: the map is redrawn every this many frames
+MAP_EVERY = 15
 #: sole outline drawn at each foothold (length, width), m
 SOLE = (0.20, 0.09)
 
@@ -171,20 +171,22 @@ class WebView:
         """The map's seen cells at their heights (coloured by height) and its edges (red)."""
         from matplotlib import colormaps
 
+        from gaitshift.control.perception import seen_cells
+
         assert self.scene is not None
         m = self.elevation
-        seen = m.known
-        if not seen.any():
+        if not m.known.any():
             return
-        xy = m.centres()[seen]
-        h = m.height[seen]
-        lo, hi = float(h.min()), float(h.max())
-        rgb = colormaps["viridis"]((h - lo) / max(hi - lo, 1e-3))[:, :3]
-        rgb[m.edges(MAP_EDGE_STEP)[seen]] = (1.0, 0.0, 0.0)
-        points = np.column_stack([xy, h]).astype(np.float32)
-        colors = (255 * rgb).astype(np.uint8)
+        r = m.settings.resolution
+        points, shade, edge = seen_cells(m.height, m.known, m.corner * r, r)
+        rgb = colormaps["viridis"](shade)[:, :3]
+        rgb[edge] = (1.0, 0.0, 0.0)
         self.nodes["map"] = self.server.scene.add_point_cloud(
-            f"{self.scene.root}/elevation_map", points, colors, point_size=0.03, precision="float32"
+            f"{self.scene.root}/elevation_map",
+            points.astype(np.float32),
+            (255 * rgb).astype(np.uint8),
+            point_size=0.03,
+            precision="float32",
         )
 
     def _slider_command(self) -> tuple[float, float, float]:

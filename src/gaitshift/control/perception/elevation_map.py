@@ -30,7 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ElevationMap", "MapSettings", "step_edges"]
+__all__ = ["EDGE_STEP", "ElevationMap", "MapSettings", "seen_cells", "step_edges"]
+
+#: the step between neighbour cells that the map's pictures (figure, browser view, Rerun) mark as an edge, m
+EDGE_STEP = 0.04
 
 
 @dataclass(frozen=True)
@@ -136,3 +139,18 @@ def step_edges(height: np.ndarray, known: np.ndarray, step: float) -> np.ndarray
         out[tuple(a)] |= jump
         out[tuple(b)] |= jump
     return out
+
+
+def seen_cells(
+    height: np.ndarray, known: np.ndarray, corner: np.ndarray, resolution: float, step: float = EDGE_STEP
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A map's seen cells as a picture needs them: their centres at their heights (N, 3) m (row-major
+    order of the grid ``height`` (n, m), its cell [0, 0]'s lower corner at world xy ``corner``), each
+    height scaled to [0, 1] over the seen range (N,), and whether each is on an edge (N,) bool
+    (:func:`step_edges` with ``step`` m)."""
+    ij = np.argwhere(known)
+    h = height[known]
+    points = np.column_stack([np.asarray(corner, dtype=float) + (ij + 0.5) * resolution, h])
+    lo = float(h.min()) if len(h) else 0.0
+    span = max(float(h.max()) - lo, 1e-3) if len(h) else 1.0
+    return points, (h - lo) / span, step_edges(height, known, step)[known]
