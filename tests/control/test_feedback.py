@@ -16,6 +16,7 @@ from gaitshift.control.feedback import (
     SwingContext,
     capture_point_offset,
     dcm_error_after,
+    heading_gain,
     predicted_error,
 )
 
@@ -30,6 +31,27 @@ def test_offset_is_the_gain_times_the_capture_point_error_clipped_per_axis():
     np.testing.assert_allclose(out, [*(0.8 * (xi - xi_ref)), 0.0], atol=1e-15)
     clipped = capture_point_offset(com + np.array([1.0, -1.0, 0.0]), vel, com_ref, vel_ref, omega, 1.0, 0.1)
     np.testing.assert_array_equal(clipped, [0.1, -0.1, 0.0])
+
+
+@pytest.mark.parametrize("yaw", [0.0, 0.7, -2.5])
+def test_a_lateral_gain_above_one_turns_the_divergent_component_back_across_the_heading(yaw):
+    """The foothold moved by diag(k, k_y) of the error in the heading frame; on that stance the LIPM's
+    divergent component obeys xi' = omega (xi - p), so an error e0 becomes
+    e(t) = k e0 + (1 - k) e0 exp(omega t) per heading axis: held for k = 1 (along the heading), and
+    back to zero at t* = ln(k / (k - 1)) / omega for k > 1 (across). Integrated here, any heading."""
+    omega, k_y = np.sqrt(9.81 / 0.62), 1.3
+    rot = np.array([[np.cos(yaw), -np.sin(yaw)], [np.sin(yaw), np.cos(yaw)]])
+    e0 = rot @ np.array([0.03, 0.05])  # m: along and across the heading
+    settings = CaptureSettings(gain=1.0, lateral_gain=k_y)
+    p = heading_gain(e0, settings, yaw)  # the foothold's offset from the plan's
+    dt, t_star = 1e-5, np.log(k_y / (k_y - 1.0)) / omega
+    e = e0.copy()
+    for _ in range(int(round(t_star / dt))):
+        e = e + dt * omega * (e - p)
+    along, across = rot.T @ e
+    assert along == pytest.approx(0.03, abs=1e-9)
+    assert abs(across) < 1e-4 * 0.05 * np.exp(omega * t_star)
+    np.testing.assert_allclose(heading_gain(e0, CaptureSettings(gain=0.8, lateral_gain=None), yaw), 0.8 * e0)
 
 
 def test_landing_moves_the_foot_correction_into_the_plan_shift_target():
@@ -59,7 +81,7 @@ def test_shift_follows_its_target_with_a_first_order_lag():
 def test_only_swinging_feet_before_the_freeze_point_are_corrected(gain, updated):
     """Foot 0 swings at u = 0.5 (corrected unless the gain is 0), foot 1 at u = 0.8 > freeze_u (frozen);
     stance feet are never corrected."""
-    shift = PlanShift(CaptureSettings(gain=gain, freeze_u=0.7), omega=4.0)
+    shift = PlanShift(CaptureSettings(gain=gain, lateral_gain=None, freeze_u=0.7), omega=4.0)
     shift.target[:] = [0.01, 0.0, 0.0]
     com, vel = np.array([0.2, 0.05, 0.6]), np.array([0.3, 0.0, 0.0])
     plan_com, plan_vel = np.array([0.15, 0.0, 0.6]), np.array([0.3, 0.0, 0.0])
@@ -119,8 +141,8 @@ def test_an_error_the_stance_sole_can_take_back_moves_no_foothold():
     footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
     com, zero, vel = np.array([0.1, 0.0, 0.6]), np.zeros(3), np.array([0.0, 0.04, 0.0])
     ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0, np.array([0.0, 0.5]))
-    with_room = PlanShift(CaptureSettings(kinematic_limits=False, cop_room=True), omega=omega, room=(0.085, 0.025))
-    without = PlanShift(CaptureSettings(kinematic_limits=False, cop_room=False), omega=omega, room=(0.085, 0.025))
+    with_room = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None, cop_room=True), omega=omega, room=(0.085, 0.025))
+    without = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None, cop_room=False), omega=omega, room=(0.085, 0.025))
     for shift in (with_room, without):
         shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
     np.testing.assert_array_equal(with_room.offset[0], [0.0, 0.0, 0.0])
@@ -163,8 +185,8 @@ def test_the_commanded_cop_is_what_the_touchdown_prediction_leaves_to_the_stance
         return cop
 
     ctx = SwingContext(footholds, footholds.copy(), np.array([tau, 0.0]), 0.0, np.array([0.0, 0.5]), None, reported)
-    on = PlanShift(CaptureSettings(kinematic_limits=False), omega=omega)
-    off = PlanShift(CaptureSettings(kinematic_limits=False, commanded_cop=False), omega=omega)
+    on = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None), omega=omega)
+    off = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None, commanded_cop=False), omega=omega)
     for shift in (on, off):
         shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
     err = vel[:2] / omega

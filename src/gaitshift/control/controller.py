@@ -286,7 +286,7 @@ class Controller:
         shift.correct_swings(sched.stance, progress, com, c.subtree_linvel[0], traj.com_pos[i], traj.com_vel[i], ctx)
         pos_std = 0.0 if self.plan.terrain.flat else self.state.position_std()
         ref = tick_reference(traj, self.plan, i, tp, sched, shift, self.settings.swing, pos_std)
-        self.wbc.gains = self.state.friction(self.wbc.gains, view)
+        self.wbc.gains = self.state.friction(self.wbc.gains, view, traj.contact[i])
         tau, info = self.wbc.compute(c, ref)
         self.last_info = info
         return tau, ref, info

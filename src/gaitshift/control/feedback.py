@@ -45,6 +45,21 @@ of the feet: :mod:`gaitshift.control.step_limits`, derived from the robot model)
 ``max_step_adjust`` is set, the correction is also clipped to it per axis. The correction is
 recomputed every tick until ``freeze_u``, so the swing foot re-targets mid-swing.
 
+Across the heading the gain of a walking step (one that lands into a double support) is
+``lateral_gain`` (1.3 by default); along the heading, and on a running step, it is ``gain`` (1):
+
+    delta = R(psi) diag(k, k_y) R(psi)^T e
+
+(:func:`heading_gain`, ``psi`` the plan's heading, ``e`` the predicted error). A lateral error can be
+taken back only by the foot on its side: the other foot's correction is clipped by the no-crossing
+limit. With k_y = 1 the push-side foot lands at the capture point and the lateral velocity is held,
+not removed; after a lateral push of 0.3-0.5 m/s the G1 walked sideways at 0.3-0.8 m/s until the
+reach limit bound and it fell (docs/robustness.md, "The mechanism"). Beyond the capture point the
+LIPM's divergent component turns back. Along the heading both feet act: a gain of 1.3 there made
+g1-top-speed (seed 0) and g1-run-slope-up (seed 1) fall, and 1.3 across on running steps made
+g1-top-speed seed 2 fall at 7.71 s (all three hold with 1). Measured on the survival spec before and
+after in docs/robustness.md.
+
 When the foot lands, the whole remaining plan (CoM reference and later footholds) is translated by
 its correction, blended in with the first-order lag ``shift' = (target - shift) / shift_time`` (one
 explicit Euler step per tick): the plan is re-anchored on where the robot actually stands, as the LIPM
@@ -70,6 +85,8 @@ class CaptureSettings:
     it off."""
 
     gain: float = 1.0
+    # the gain across the heading (module docstring, "Across the heading"); None: ``gain``
+    lateral_gain: float | None = 1.3
     freeze_u: float = 0.7  # swing progress after which the foothold correction is frozen
     shift_time: float = 0.1  # s: time constant of the plan shift after a corrected touchdown
     max_step_adjust: float | None = None  # m per axis; None: the kinematic limits alone
@@ -131,6 +148,18 @@ def taking_back(cop: np.ndarray, err: np.ndarray, yaw: float) -> np.ndarray:
     return np.asarray(rot @ np.where(off * (rot.T @ err) > 0.0, off, 0.0))
 
 
+def heading_gain(err: np.ndarray, settings: CaptureSettings, yaw: float, walking: bool = True) -> np.ndarray:
+    """The foothold correction (2,) m for the predicted divergent-component error ``err`` (2,) m, both
+    world-frame: ``gain`` along the heading ``yaw`` (rad) and ``lateral_gain`` across it on a
+    ``walking`` step (a double support follows the touchdown; ``gain`` otherwise),
+
+    .. math:: \\delta = R(\\psi) \\operatorname{diag}(k, k_y) R(\\psi)^T e.
+    """
+    lateral = settings.lateral_gain if walking and settings.lateral_gain is not None else settings.gain
+    rot = rot2(yaw)
+    return np.asarray(rot @ (np.array([settings.gain, lateral]) * (rot.T @ err)))
+
+
 def capture_point_offset(
     com: np.ndarray,
     com_vel: np.ndarray,
@@ -173,6 +202,14 @@ class SwingContext:
     stance_left: np.ndarray | None = None
     load_factor: Callable[[float], float] | None = None
     cop: Callable[[int], np.ndarray | None] | None = None
+
+    def double_support_ahead(self, side: int, stance: np.ndarray) -> bool:
+        """Whether the swinging foot ``side`` lands while the other foot still stands (a walking step;
+        a running step lands after a flight). Without the stance times: True."""
+        o = 1 - side
+        if self.stance_left is None:
+            return True
+        return bool(stance[o] and self.stance_left[o] >= self.time_left[side])
 
     def growth_time(self, side: int, stance: np.ndarray) -> float:
         """tau of the module docstring for the swinging foot ``side``, s."""
@@ -286,11 +323,11 @@ class PlanShift:
             growth = math.exp(self.omega * tau)
             err = capture_point_offset(com, com_vel, com_plan + self.target, vel_plan, self.omega, 1.0, math.inf)
             cop = self._held_cop(1 - s, tau, err[:2], ctx)
+            yaw = ctx.yaw if ctx is not None else 0.0
+            walking = ctx is None or ctx.double_support_ahead(s, stance)
+            e = dcm_error_after(err[:2], growth, cop, yaw) if cop is not None else growth * err[:2]
             delta = np.zeros(3)
-            if cop is not None and ctx is not None:
-                delta[:2] = np.clip(cfg.gain * dcm_error_after(err[:2], growth, cop, ctx.yaw), -clip, clip)
-            else:
-                delta[:2] = np.clip(cfg.gain * growth * err[:2], -clip, clip)
+            delta[:2] = np.clip(heading_gain(e, cfg, yaw, walking), -clip, clip)
             if self.limits is not None and ctx is not None:
                 base = ctx.footholds[s] + self.shift
                 o = 1 - s
