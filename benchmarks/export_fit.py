@@ -3,6 +3,11 @@ whole-body IK of the export (200 Hz, resampled to mjlab's 50 fps) with the defau
 joint range, no pelvis task, flat swing soles) and with ``REFERENCE_SETTINGS`` (what ``gaitshift export``
 uses): frames with a joint outside the soft range (robot YAML ``limits.soft_joint_fraction``), pelvis
 roll range and peak rate about the pelvis's x axis, IK time per sample; or why the IK refuses the plan.
+For the reference IK also the motion's deviation from the plan (``meta["ik"]["plan_fit"]``,
+:mod:`gaitshift.wholebody.plan_fit`): max CoM error, max error of a flat sole in contact, toe-off
+(samples, largest pivot angle and sole-centre rise), smallest margin of the plan's ZMP inside the
+support left by a toe-off, smallest sole-corner clearance above the ground of the soles in contact
+(checked) and of the swing soles (reported).
 With ``--sim``, also the closed-loop alternative: ``gaitshift simulate`` of g1-walk-run-walk, exported
 from its log, measured the same way (about 25 s more).
 
@@ -55,7 +60,25 @@ def run(name: str, settings: IKSettings) -> dict[str, object]:
         return {"refused": str(exc)[:160]}
     row = measure(joints.t, joints.qpos)
     row["ik_ms_per_sample"] = round(1e3 * joints.meta["ik"]["time_per_sample_median_s"], 2)
+    if "plan_fit" in joints.meta["ik"]:
+        row["fit"] = joints.meta["ik"]["plan_fit"]
     return row
+
+
+def fit_cell(fit: dict[str, float | None]) -> str:
+    """The plan-fit numbers of one export: mm, deg, samples."""
+    zmp = fit["zmp_margin_m"]
+    toe = (
+        f"toe-off {fit['toe_off_samples']} samples, <= {np.degrees(fit['toe_off_angle_rad']):.1f} deg, "  # type: ignore[arg-type]
+        f"rise {1e3 * fit['toe_off_rise_m']:.1f} mm, ZMP margin {1e3 * zmp:.1f} mm"  # type: ignore[operator]
+        if zmp is not None
+        else "no toe-off"
+    )
+    return (
+        f"CoM {1e3 * fit['com_error_m']:.3f} mm, contact sole {1e3 * fit['contact_sole_error_m']:.2f} mm, "  # type: ignore[operator]
+        f"{toe}, ground clearance {1e3 * fit['ground_clearance_m']:+.2f} mm"  # type: ignore[operator]
+        + (f", swing {1e3 * swing:+.2f} mm" if (swing := fit.get("swing_clearance_m")) is not None else "")
+    )
 
 
 def closed_loop(name: str = "g1-walk-run-walk") -> dict[str, object]:
@@ -84,6 +107,7 @@ def main(argv: list[str]) -> None:
             cells.append(
                 f"{r['outside_soft']} / {r['frames']}, {roll[0]:+.2f} .. {roll[1]:+.2f}, {r['roll_rate']:.3f}"  # type: ignore[index]
                 + f", {r['ik_ms_per_sample']} ms"
+                + (f"; {fit_cell(r['fit'])}" if "fit" in r else "")  # type: ignore[arg-type]
             )
         print(f"| {name} | {cells[0]} | {cells[1]} |", flush=True)
     if sim:

@@ -5,7 +5,13 @@
   which the IK's default motion of the same plan leaves (so the check can fail);
 * the pelvis roll and roll rate of the exports stay within those of the simulated runs: g1-walk's
   against the simulation made by the conftest, g1-walk-run-walk's against its measured run;
-* a swing sole may pitch in the air, but is flat on every frame where the plan has it in contact;
+* a swing sole may pitch in the air, but is flat on every frame where the plan has it in contact, but
+  for the rear sole of a double support, which may lift its heel about its toe (toe-off);
+* g1-slope-down, refused before (the rear ankle at its soft limit with both soles flat), exports with
+  every joint in the soft range, its CoM on the plan's, its soles in contact on the ramp and its
+  toe-offs within the support the plan's ZMP needs; g1-slope-up, whose rear sole would have to lift
+  while the plan's ZMP is still on it, is refused in one line; the ground check refuses soles held
+  flat on a ramp (what the reference IK did before: a corner 16 mm inside the ramp);
 * the mjlab format's rules not checked elsewhere: the exact keys and dtypes, joints in the MJCF's
   order, the base quaternion w first (an upright robot), linear velocities of the body frame origin
   (the velocity of the body's CoM fails the same difference check).
@@ -14,15 +20,20 @@
 from __future__ import annotations
 
 import functools
+from dataclasses import replace
 
 import mujoco
 import numpy as np
 import pytest
 
+from gaitshift.api import plan as plan_of
 from gaitshift.cli import main
+from gaitshift.export.motion import export_motion
 from gaitshift.robots import load_robot
+from gaitshift.scenario.loader import load_scenario
 from gaitshift.trajectory.contract import Trajectory
-from gaitshift.wholebody.ik import WholeBodyIK
+from gaitshift.wholebody.ik import REFERENCE_SETTINGS, IKInfeasibleError, WholeBodyIK
+from gaitshift.wholebody.ik_tasks import trailing_soles
 
 #: mjlab 1.6.0's G1 (asset_zoo/robots/unitree_g1/g1_constants.py): soft_joint_pos_limit_factor = 0.9
 MJLAB_SOFT_FACTOR = 0.9
@@ -126,6 +137,7 @@ def test_swing_soles_pitch_only_in_the_air_and_are_flat_in_contact(wrw):
     t = plan.t[0] + np.arange(len(z["joint_pos"])) / 50.0
     k = np.minimum(np.searchsorted(plan.t, t - 1e-9), len(plan.t) - 1)
     contact = plan.contact[k] & plan.contact[np.maximum(k - 1, 0)]  # in contact at and before the frame
+    contact &= ~trailing_soles(plan.contact)[k]  # the rear sole of a double support may lift its heel
     bodies = [str(b) for b in z["body_names"]]
     for side, foot in enumerate(("left_ankle_roll_link", "right_ankle_roll_link")):
         _, x, y, _ = z["body_quat_w"][:, bodies.index(foot)].T
@@ -166,3 +178,54 @@ def test_linear_velocities_are_of_the_body_frame_origins(exported):
     at_com = vel + np.cross(w, offset)  # the velocity of each body's CoM (mj_objectVelocity's point)
     e = linear_difference_error(pos, at_com, 50)
     assert np.percentile(e, 95) > P95
+
+
+@pytest.fixture(scope="module")
+def slope_down(tmp_path_factory):
+    """(plan, export report, mjlab-npz) of g1-slope-down, refused by the reference IK before toe-off."""
+    d = tmp_path_factory.mktemp("slope")
+    path, out = d / "slope.npz", d / "slope-motion.npz"
+    assert run(["plan", "g1-slope-down", "--out", path]) == 0
+    report = export_motion(path, out, "mjlab-npz")
+    return Trajectory.load(path), report, np.load(out)
+
+
+def test_g1_slope_down_exports_within_the_soft_range_on_the_plan(slope_down):
+    _, report, z = slope_down
+    assert frames_outside([str(n) for n in z["joint_names"]], z["joint_pos"]) == 0
+    fit = report["ik"]["plan_fit"]
+    assert fit["com_error_m"] <= 1e-3 and fit["contact_sole_error_m"] <= 5e-4  # the IK's com_tol, pos_tol
+    assert fit["toe_off_samples"] > 0 and fit["zmp_margin_m"] >= 0.0  # the toe-offs it needs, supported
+    assert fit["ground_clearance_m"] >= -5e-4
+    roll, rate = pelvis_roll(z)
+    assert np.degrees(np.abs(roll)).max() <= SIM_WRW_ROLL_DEG and np.abs(rate).max() <= SIM_WRW_ROLL_RATE
+
+
+def test_g1_slope_down_soles_in_contact_lie_on_the_ramp(slope_down):
+    plan, _, z = slope_down
+    t = plan.t[0] + np.arange(len(z["joint_pos"])) / 50.0
+    k = np.minimum(np.searchsorted(plan.t, t - 1e-9), len(plan.t) - 1)
+    bodies = [str(b) for b in z["body_names"]]
+    _, x, y, _ = z["body_quat_w"][:, bodies.index("left_ankle_roll_link")].T
+    tilt = np.degrees(np.arccos(np.clip(1 - 2 * (x * x + y * y), -1, 1)))
+    foot = plan.foot_pos[k, 0]
+    on_ramp = plan.contact[k, 0] & ~trailing_soles(plan.contact)[k, 0] & (foot[:, 0] > 0.4) & (foot[:, 0] < 1.6)
+    assert on_ramp.sum() > 10
+    np.testing.assert_allclose(tilt[on_ramp], 10.0, atol=0.3)  # the 10 deg ramp, not flat
+
+
+def test_a_toe_off_the_plans_zmp_cannot_use_is_refused_in_one_line(tmp_path, capsys):
+    path = tmp_path / "up.npz"
+    assert run(["plan", "g1-slope-up", "--out", path]) == 0
+    capsys.readouterr()
+    assert run(["export", path, "--format", "mjlab-npz", "--out", tmp_path / "up-motion.npz"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "toe-off support" in err and "outside the support" in err
+    assert not (tmp_path / "up-motion.npz").exists()
+
+
+def test_the_ground_check_refuses_soles_held_flat_on_a_ramp():
+    traj = plan_of(load_scenario("g1-run-slope-down"))
+    flat = replace(REFERENCE_SETTINGS, terrain_soles=False)
+    with pytest.raises(IKInfeasibleError, match=r"task 'ground': a sole corner is 1[56]\.\d mm below the ground"):
+        WholeBodyIK("g1", flat).solve(traj, rate=200.0)

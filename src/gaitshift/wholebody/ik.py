@@ -13,7 +13,10 @@ exactly, and among the solutions keeps the torso upright (yaw = mean sole yaw) a
 and legs close to the standing pose (weighted least squares), with the joint limits as inequalities.
 Reference motions (:data:`REFERENCE_SETTINGS`, what ``gaitshift export`` of a plan uses) also keep the
 pelvis upright at the same yaw, every joint within its soft range (the robot YAML's
-``limits.soft_joint_fraction``), and leave a swing sole's pitch soft (:mod:`gaitshift.wholebody.ik_tasks`).
+``limits.soft_joint_fraction``), leave a swing sole's pitch soft, lay the soles in contact on the
+plan's terrain and let the rear sole of a double support pivot about its toe (toe-off)
+(:mod:`gaitshift.wholebody.ik_tasks`); the solved motion is then checked against the plan's physics
+and its deviation reported (:mod:`gaitshift.wholebody.plan_fit`).
 Each Newton iteration is one mink QP (daqp through qpsolvers)::
 
     min_dq  sum_soft ||J_i dq + e_i||^2_{W_i} + damping ||dq||^2
@@ -40,25 +43,26 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.common.rotations import rot_z
-from gaitshift.errors import InfeasibleError, InputError
+from gaitshift.common.rotations import rot_y, rot_z
+from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.trajectory.contract import Trajectory
-from gaitshift.wholebody.ik_tasks import SoleTasks, SoleTaskSets, limited_model, soft_range, sole_angle_error
+from gaitshift.wholebody.ik_diagnosis import IKInfeasibleError, diagnose
+from gaitshift.wholebody.ik_diagnosis import check_velocities as check_velocities_of
+from gaitshift.wholebody.ik_tasks import (
+    SoleTasks,
+    SoleTaskSets,
+    ToePoint,
+    limited_model,
+    soft_range,
+    sole_angle_error,
+    terrain_pitch,
+    trailing_soles,
+)
 from gaitshift.wholebody.joints import JointTrajectory, coordinate_names, joint_velocities, subsample
+from gaitshift.wholebody.plan_fit import fit_violation, plan_fit
 
-TASKS = ("com", "left sole", "right sole")
-
-
-class IKInfeasibleError(InfeasibleError):
-    """The robot cannot follow the plan. Attributes: ``time`` (s), ``task`` (one of ``com``,
-    ``left sole``, ``right sole``, ``joint velocity``) and ``cause`` (text)."""
-
-    def __init__(self, message: str, *, time: float, task: str, cause: str):
-        super().__init__(message)
-        self.time = time
-        self.task = task
-        self.cause = cause
+__all__ = ["REFERENCE_SETTINGS", "IKInfeasibleError", "IKSettings", "WholeBodyIK", "wholebody"]
 
 
 @dataclass(frozen=True)
@@ -80,6 +84,13 @@ class IKSettings:
             unitless, per rad); 0: none.
         swing_pitch_cost: weight of a swing sole's pitch as a soft task (per rad); None: a hard
             constraint like the stance soles' (:mod:`gaitshift.wholebody.ik_tasks`).
+        terrain_soles: a sole in contact lies on the plan's terrain (inclined as the ramp under its
+            foothold), else flat.
+        toe_off_cost: the rear sole of a double support may pivot about its toe edge, its pitch a soft
+            task of this weight (per rad); None: it stays flat.
+        check_plan_fit: after solving, refuse a motion that breaks the plan's physics (the ZMP outside
+            the support a toe-off leaves, a sole below the ground; :mod:`gaitshift.wholebody.plan_fit`)
+            and report its deviation from the plan in ``meta["ik"]["plan_fit"]``.
     """
 
     com_tol: float = 1e-3
@@ -98,12 +109,24 @@ class IKSettings:
     soft_limits: bool = False
     pelvis_cost: float = 0.0
     swing_pitch_cost: float | None = None
+    terrain_soles: bool = False
+    toe_off_cost: float | None = None
+    check_plan_fit: bool = False
 
 
 #: the IK of reference motions (``gaitshift export`` of a plan, docs/export.md "Fit for training"): joints
 #: within their soft range, the pelvis upright (g1-walk-run-walk: roll within +-0.4 deg instead of -21 to
-#: +25 deg), the swing soles' pitch soft (up to 16 deg toe down in its running swings)
-REFERENCE_SETTINGS = IKSettings(soft_limits=True, pelvis_cost=10.0, swing_pitch_cost=1.0)
+#: +25 deg), the swing soles' pitch soft (up to 16 deg toe down in its running swings), soles in contact on
+#: the plan's terrain, the rear sole of a double support free to lift its heel (toe-off), the motion
+#: checked against the plan's physics
+REFERENCE_SETTINGS = IKSettings(
+    soft_limits=True,
+    pelvis_cost=10.0,
+    swing_pitch_cost=1.0,
+    terrain_soles=True,
+    toe_off_cost=1.0,
+    check_plan_fit=True,
+)
 
 
 # ====================================================================== IK
@@ -147,34 +170,46 @@ class WholeBodyIK:
         self.dropped = [
             f"{side} sole roll" for side, ok in zip(("left", "right"), self.robot.foot_roll, strict=True) if not ok
         ] + (["swing sole pitch"] if s.swing_pitch_cost is not None else [])
-        self.sole_sets = SoleTaskSets(mink, self.sole_tasks, self.robot.foot_roll, s.swing_pitch_cost)
+        self.dropped += ["trailing sole position and pitch (toe point held)"] if s.toe_off_cost is not None else []
+        toe = np.array([self.robot.sole_size[0] / 2, 0.0, 0.0])  # the toe edge's middle in the sole frame, m
+        self.toe_points = [ToePoint(m, site, toe) for site in self.sites]
+        self.sole_sets = SoleTaskSets(
+            mink, self.sole_tasks, self.robot.foot_roll, s.swing_pitch_cost, self.toe_points, s.toe_off_cost
+        )
         self.soft_base: list[Any] = [self.torso_task, self.posture_task]
         if s.pelvis_cost > 0:
             self.soft_base.append(self.pelvis_task)
         self.knee_adr = [m.joint(n).qposadr[0] for n in self.robot.knees]
         self.hip_ids = [m.joint(n).id for n in self.robot.hips]
-        self._qadr = np.array([m.jnt_qposadr[j] for j in jids])
-        self._vadr = np.array([m.jnt_dofadr[j] for j in jids])
+        self.qadr = np.array([m.jnt_qposadr[j] for j in jids])
+        self.vadr = np.array([m.jnt_dofadr[j] for j in jids])
         #: the joint range the IK keeps to (J, 2), rad: the MJCF's, or its soft range
         self.joint_range = rng
-        self._lo, self._hi = rng[:, 0], rng[:, 1]
+        self.lo, self.hi = rng[:, 0], rng[:, 1]
 
     # ------------------------------------------------------------------ one sample
     def _errors(self, com: np.ndarray, feet: np.ndarray, rots: list[np.ndarray], tasks: SoleTasks) -> np.ndarray:
-        """CoM error (m), sole position errors (m) and sole orientation errors without their free rows (rad)."""
+        """CoM error (m), sole position errors (m; of the toe point for a pivoting sole) and sole
+        orientation errors without their free rows (rad)."""
         d = self.conf.data
         e = np.empty(5)
         e[0] = np.linalg.norm(d.subtree_com[1] - com)
         for i, sid in enumerate(self.sites):
-            e[1 + i] = np.linalg.norm(d.site_xpos[sid] - feet[i])
+            if tasks.pivot[i]:
+                e[1 + i] = np.linalg.norm(self.toe_points[i].point(d) - self.toe_points[i].target)
+            else:
+                e[1 + i] = np.linalg.norm(d.site_xpos[sid] - feet[i])
             R = d.site_xmat[sid].reshape(3, 3)
             e[3 + i] = sole_angle_error(rots[i], R, tasks.free_roll[i], tasks.free_pitch[i])
         return e
 
-    def _set_targets(self, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray) -> list[np.ndarray]:
+    def _set_targets(self, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray, pitch: np.ndarray) -> list[np.ndarray]:
+        """Targets of one sample: CoM ``com`` (3,), soles at ``feet`` (2, 3) m with yaw ``yaw`` (2,) and
+        pitch ``pitch`` (2,) rad (toe up, about the world y axis: R = Ry(-pitch) Rz(yaw)); torso and
+        pelvis upright at the mean sole yaw. Returns the sole rotations."""
         SE3, SO3 = self._mink.SE3, self._mink.SO3
         self.com_task.set_target(com)
-        rots = [rot_z(float(y)) for y in yaw]
+        rots = [rot_y(-float(p)) @ rot_z(float(y)) for y, p in zip(yaw, pitch, strict=True)]
         for task, f, r in zip(self.sole_tasks, feet, rots, strict=True):
             task.set_target(SE3.from_rotation_and_translation(SO3.from_matrix(r), f))
         mid = math.atan2(math.sin(yaw[0]) + math.sin(yaw[1]), math.cos(yaw[0]) + math.cos(yaw[1]))
@@ -185,11 +220,22 @@ class WholeBodyIK:
         return rots
 
     def _solve_sample(
-        self, q: np.ndarray, com: np.ndarray, feet: np.ndarray, yaw: np.ndarray, contact: np.ndarray, max_iter: int
+        self,
+        q: np.ndarray,
+        com: np.ndarray,
+        feet: np.ndarray,
+        yaw: np.ndarray,
+        contact: np.ndarray,
+        max_iter: int,
+        pitch: np.ndarray | None = None,
+        pivot: np.ndarray | None = None,
     ) -> tuple[np.ndarray, np.ndarray, int, str | None]:
+        """Newton iterations of one sample from ``q`` (nq,): its solution, errors (5,), iterations and
+        the solver's failure (or None). ``pitch`` (2,) rad: sole pitch targets (default flat); ``pivot``
+        (2,) bool: the soles that may pivot about their toe (default none)."""
         s = self.settings
-        rots = self._set_targets(com, feet, yaw)
-        tasks = self.sole_sets.get(contact)
+        rots = self._set_targets(com, feet, yaw, np.zeros(2) if pitch is None else pitch)
+        tasks = self.sole_sets.get(contact, (False, False) if pivot is None else pivot)
         hard, soft = [self.com_task, *tasks.hard], self.soft_base + tasks.soft
         conf = self.conf
         conf.update(q)
@@ -211,70 +257,17 @@ class WholeBodyIK:
             it += 1
         return conf.q.copy(), err, it, failure
 
-    # ------------------------------------------------------------------ diagnosis
-    def _diagnose(
-        self, t: float, q: np.ndarray, feet: np.ndarray, err: np.ndarray, failure: str | None
-    ) -> IKInfeasibleError:
-        s = self.settings
-        d = self.conf.data
-        self.conf.update(q)
-        ratios = np.array(
-            [
-                err[0] / s.com_tol,
-                max(err[1] / s.pos_tol, err[3] / s.rot_tol),
-                max(err[2] / s.pos_tol, err[4] / s.rot_tol),
-            ]
-        )
-        task = int(np.argmax(ratios))
-        reach = [float(np.linalg.norm(feet[i] - d.xanchor[self.hip_ids[i]])) for i in (0, 1)]
-        leg = self.robot.leg_length
-        sides = ("left", "right")
-        where = [f"{sides[i]} hip-to-sole distance {reach[i]:.3f} m" for i in (0, 1)]
-        causes: list[tuple[int | None, str]] = [
-            (i + 1, f"{sides[i]} foot out of reach (hip-to-sole distance {reach[i]:.3f} m > leg length {leg:.3f} m)")
-            for i in (0, 1)
-            if reach[i] > leg
-        ]
-        lo, hi = self._lo, self._hi
-        soft = f"soft range ({self.robot.soft_joint_fraction:g} of the MJCF's) " if s.soft_limits else "range "
-        qj = q[self._qadr]
-        for j in np.flatnonzero((qj - lo < 1e-2) | (hi - qj < 1e-2)):
-            name = self.robot.joint_names[j]
-            causes.append((None, f"joint limit ({name} = {qj[j]:.3f} rad, {soft}[{lo[j]:.3f}, {hi[j]:.3f}])"))
-        causes += [
-            (
-                i + 1,
-                f"knee singularity ({self.robot.knees[i]} = {q[adr]:.3f} rad, leg straight; {where[i]}, "
-                f"leg length {leg:.3f} m)",
-            )
-            for i, adr in enumerate(self.knee_adr)
-            if abs(q[adr]) < s.knee_margin
-        ]
-        if causes and causes[0][0] is not None and (ratios[causes[0][0]] > 1 or ratios.max() <= 1):
-            task = causes[0][0]
-        if not causes:
-            side = task - 1 if task else int(np.argmax(reach))
-            causes.append((None, f"{failure or 'no converged solution'} ({where[side]}, leg length {leg:.3f} m)"))
-        cause = "; ".join(c for _, c in causes)
-        miss = err[0] if task == 0 else max(err[task], 0.0)
-        rot = err[2 + task] if task else 0.0
-        return IKInfeasibleError(
-            f"whole-body IK infeasible for {self.robot.name} at t = {t:.3f} s: task '{TASKS[task]}' misses "
-            f"its target by {miss * 1e3:.1f} mm" + (f" / {rot:.3f} rad" if task else "") + f": {cause}",
-            time=t,
-            task=TASKS[task],
-            cause=cause,
-        )
-
     # ------------------------------------------------------------------ whole trajectory
     def solve(self, traj: Trajectory, rate: float | None = None, check_velocities: bool = True) -> JointTrajectory:
         """Joint trajectories reproducing the CoM and sole poses of ``traj`` (sampled at ``rate`` Hz,
         default the plan's own step); ``check_velocities``: raise when a joint exceeds its speed limit.
         On a leg that cannot roll its foot (``RobotConfig.foot_roll``), the sole's roll is dropped from
-        the hard constraints (kept as a soft task) and ``meta.ik.dropped_tasks`` says so.
+        the hard constraints (kept as a soft task) and ``meta.ik.dropped_tasks`` says so. With
+        ``check_plan_fit``, the motion's deviation from the plan is in ``meta.ik.plan_fit``.
 
         Raises:
-            InfeasibleError: the robot cannot follow the plan (time, task and cause in the message).
+            InfeasibleError: the robot cannot follow the plan (time, task and cause in the message), or
+                (``check_plan_fit``) its motion breaks the plan's physics.
             InputError: ``rate`` is not 1/(k dt).
         """
         s = self.settings
@@ -282,10 +275,45 @@ class WholeBodyIK:
         n = len(traj)
         if n < 2:
             raise InputError("trajectory", f"{n} samples", "at least 2 samples")
-        dt = traj.dt
-        feet_all = traj.foot_pos
-        yaw_all = traj.foot_yaw
-        com_all = traj.com_pos
+        pitch = terrain_pitch(traj) if s.terrain_soles else np.zeros((n, 2))
+        pivot = trailing_soles(traj.contact) if s.toe_off_cost is not None else np.zeros((n, 2), bool)
+        qpos, errs, iters, sample_time = self._solve_samples(traj, pitch, pivot)
+        self.last_sample_times = sample_time
+        self.last_iterations = iters
+        qvel = joint_velocities(self.model, qpos, traj.dt)
+        if check_velocities:
+            check_velocities_of(self, traj.t, qvel)
+        meta = self._meta(traj, errs, iters, sample_time)
+        if s.check_plan_fit:
+            yaw = traj.foot_yaw
+            targets = np.array(
+                [[rot_y(-float(pitch[k, i])) @ rot_z(float(yaw[k, i])) for i in (0, 1)] for k in range(n)]
+            )
+            fit = plan_fit(traj, self.model, self.sites, qpos, targets, self.robot.sole_size, s.rot_tol)
+            meta["ik"]["plan_fit"] = fit.as_dict()
+            broken = fit_violation(fit, s.pos_tol)
+            if broken is not None:
+                t, task, cause = broken
+                raise IKInfeasibleError(
+                    f"whole-body IK infeasible for {self.robot.name} at t = {t:.3f} s: task '{task}': {cause}",
+                    time=t,
+                    task=task,
+                    cause=cause,
+                )
+        return JointTrajectory(traj.t.copy(), qpos, qvel, meta)
+
+    def _solve_samples(
+        self, traj: Trajectory, pitch: np.ndarray, pivot: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Every sample of ``traj`` (N) in turn, with sole pitch targets ``pitch`` (N, 2) rad and pivoting
+        soles ``pivot`` (N, 2) bool: qpos (N, nq), errors (N, 5), iterations (N,), seconds per sample (N,).
+
+        Raises:
+            IKInfeasibleError: the first sample that does not converge within the tolerances.
+        """
+        s = self.settings
+        n = len(traj)
+        feet_all, yaw_all, com_all = traj.foot_pos, traj.foot_yaw, traj.com_pos
         m = self.model
         mujoco = self._mujoco
 
@@ -304,9 +332,10 @@ class WholeBodyIK:
             t0 = time.perf_counter()
             if k >= 2 and s.extrapolate:
                 mujoco.mj_integratePos(m, q, v_prev, 1.0)
-                q[self._qadr] = np.clip(q[self._qadr], self._lo, self._hi)
+                q[self.qadr] = np.clip(q[self.qadr], self.lo, self.hi)
+            iters_k = s.first_iter if k == 0 else s.max_iter
             qk, err, it, failure = self._solve_sample(
-                q, com_all[k], feet_all[k], yaw_all[k], traj.contact[k], s.first_iter if k == 0 else s.max_iter
+                q, com_all[k], feet_all[k], yaw_all[k], traj.contact[k], iters_k, pitch[k], pivot[k]
             )
             if (
                 failure is not None
@@ -315,8 +344,8 @@ class WholeBodyIK:
                 or max(err[3], err[4]) > s.rot_tol
                 or min(abs(qk[a]) for a in self.knee_adr) < s.knee_margin
             ):
-                raise self._diagnose(float(traj.t[k]), qk, feet_all[k], err, failure)
-            qk[self._qadr] = np.clip(qk[self._qadr], self._lo, self._hi)  # rounding only (< 1e-15 rad)
+                raise diagnose(self, float(traj.t[k]), qk, feet_all[k], err, failure)
+            qk[self.qadr] = np.clip(qk[self.qadr], self.lo, self.hi)  # rounding only (< 1e-15 rad)
             if k >= 1:
                 mujoco.mj_differentiatePos(m, v_prev, 1.0, qpos[k - 1], qk)
             qpos[k] = qk
@@ -324,36 +353,7 @@ class WholeBodyIK:
             errs[k] = err
             iters[k] = it
             sample_time[k] = time.perf_counter() - t0
-        self.last_sample_times = sample_time
-        self.last_iterations = iters
-        qvel = joint_velocities(m, qpos, dt)
-        if check_velocities:
-            self._check_velocities(traj.t, qvel)
-        return JointTrajectory(traj.t.copy(), qpos, qvel, self._meta(traj, errs, iters, sample_time))
-
-    def _check_velocities(self, t: np.ndarray, qvel: np.ndarray) -> None:
-        vj = np.abs(qvel[:, self._vadr])
-        if not np.all(np.isfinite(vj)):
-            k = int(np.argmax(~np.all(np.isfinite(vj), axis=1)))
-            raise IKInfeasibleError(
-                f"whole-body IK infeasible for {self.robot.name} at t = {t[k]:.3f} s: "
-                "task 'joint velocity' is not finite",
-                time=float(t[k]),
-                task="joint velocity",
-                cause="non-finite velocity",
-            )
-        over = vj / self.robot.velocity_limit
-        if np.any(over > 1.0):
-            k, j = (int(x) for x in np.unravel_index(int(np.argmax(over)), over.shape))
-            name = self.robot.joint_names[j]
-            cause = f"{name} at {vj[k, j]:.2f} rad/s > limit {self.robot.velocity_limit[j]:.2f} rad/s"
-            raise IKInfeasibleError(
-                f"whole-body IK infeasible for {self.robot.name} at t = {t[k]:.3f} s: task "
-                f"'joint velocity' exceeds the velocity limit: {cause}",
-                time=float(t[k]),
-                task="joint velocity",
-                cause=cause,
-            )
+        return qpos, errs, iters, sample_time
 
     def _meta(self, traj: Trajectory, errs: np.ndarray, iters: np.ndarray, st: np.ndarray) -> dict[str, Any]:
         qpos_names, qvel_names = coordinate_names(self.model)
@@ -377,6 +377,8 @@ class WholeBodyIK:
                 "dropped_tasks": list(self.dropped),
                 "soft_joint_fraction": self.robot.soft_joint_fraction if self.settings.soft_limits else None,
                 "pelvis_cost": self.settings.pelvis_cost,
+                "terrain_soles": self.settings.terrain_soles,
+                "toe_off_cost": self.settings.toe_off_cost,
                 "iterations_median": float(np.median(iters)),
                 "iterations_max": int(iters.max()),
                 "time_per_sample_median_s": float(np.median(st[1:] if len(st) > 1 else st)),

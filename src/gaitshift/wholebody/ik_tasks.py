@@ -11,7 +11,17 @@ equality constraints of the IK's QP, except:
   given (``IKSettings.swing_pitch_cost``): dropped, and kept as a soft task of that weight pulling the
   sole flat. The plan gives a swing foot's position and yaw; its pitch in the air changes neither the
   CoM's dynamics nor a contact, and a flat swing sole behind the body is what drives the ankle pitch to
-  its limit at lift-off. A sole in contact is always flat (all its rows hard).
+  its limit at lift-off;
+* the trailing sole of a double support (the foot that lifts off next, :func:`trailing_soles`) when a
+  toe-off weight is given (``IKSettings.toe_off_cost``): it may pivot about its toe edge, heel up, as a
+  walker's rear foot does before lift-off. Its position rows are replaced by the toe point (the sole's
+  front edge, ``RobotConfig.sole_size[0] / 2`` ahead of the sole centre, :class:`ToePoint`) held at its
+  planned place, roll and yaw stay hard, and the pitch becomes a soft task of that weight pulling the
+  sole flat on the ground (it only lifts where the ankle's range leaves no other solution). Whether the
+  plan's ZMP stays within the smaller support this leaves is checked by :mod:`gaitshift.wholebody.plan_fit`.
+
+Any other sole in contact lies on the ground (all its rows hard): flat, or, with
+``IKSettings.terrain_soles``, inclined as the plan's terrain under its foothold (:func:`terrain_pitch`).
 
 The soft range of a joint (mjlab's ``soft_joint_pos_limits``): centre +- f x half range, f =
 ``RobotConfig.soft_joint_fraction`` (robot YAML ``limits.soft_joint_fraction``, 0.9 by default).
@@ -25,6 +35,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+from gaitshift.gait.swing import foot_yaws
+from gaitshift.models.terrain import Terrain
+from gaitshift.trajectory.contract import Trajectory
 
 #: rows of a sole task: position x, y, z, rotation about the sole's x (roll), y (pitch), z (yaw)
 ROLL, PITCH = 3, 4
@@ -82,15 +96,75 @@ def limited_model(model: Any, joint_ids: list[int], joint_range: np.ndarray) -> 
     return out
 
 
+def terrain_pitch(traj: Trajectory) -> np.ndarray:
+    """Inclination of each sole (N, 2) rad, positive toe up: in contact the pitch of the plan's terrain
+    (``meta["terrain"]``, :class:`~gaitshift.models.terrain.Terrain`) under its foothold, atan(dz/dx); in
+    a swing the minimum-jerk blend from the lift-off foothold's to the touchdown foothold's
+    (:func:`gaitshift.gait.swing.foot_yaws`, as the yaws); zeros on flat ground. The same pitch as the
+    closed loop's sole references (``PlanSamples.foot_pitch``)."""
+    terrain = Terrain.from_list(traj.meta.get("terrain"))
+    if terrain.flat:
+        return np.zeros((len(traj), 2))
+    steps = traj.footsteps.copy()
+    steps[:, 3] = np.arctan(terrain.slope(steps[:, 0]))  # each foothold's pitch in the yaw column
+    return foot_yaws(traj.contact.astype(bool), traj.foot_pos, steps, traj.footstep_side)
+
+
+def trailing_soles(contact: np.ndarray) -> np.ndarray:
+    """(N, 2) bool: the sole of each double support (``contact`` (N, 2) both true) whose next lift-off
+    comes first (strictly), i.e. the rear foot about to swing; false elsewhere (a single support's stance
+    sole carries the whole ZMP and never pivots)."""
+    c = np.asarray(contact, bool)
+    n = len(c)
+    nxt = np.empty((n, 2), dtype=np.int64)
+    for side in (0, 1):
+        lift = np.append(np.flatnonzero(c[:-1, side] & ~c[1:, side]) + 1, n)  # first samples off the ground, n
+        nxt[:, side] = lift[np.searchsorted(lift, np.arange(n), side="right")]
+    ds = c[:, 0] & c[:, 1]
+    return np.stack([ds & (nxt[:, 0] < nxt[:, 1]), ds & (nxt[:, 1] < nxt[:, 0])], axis=1)
+
+
+class ToePoint:
+    """The toe point of a sole as an equality constraint of the IK: the point ``offset`` (3,) m of the sole
+    site's frame (``[sole length / 2, 0, 0]``: the middle of its front edge), error p(q) - target (3,) m in
+    the world frame, Jacobian (3, nv) from ``mj_jac`` on the sole's body."""
+
+    def __init__(self, model: Any, site: int, offset: np.ndarray):
+        import mujoco
+
+        self._mj_jac = mujoco.mj_jac
+        self.site, self.body, self.offset = site, int(model.site_bodyid[site]), np.asarray(offset, float)
+        self.target, self.gain = np.zeros(3), 1.0
+        self._jacp, self._jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+
+    def point(self, data: Any) -> np.ndarray:
+        """The toe point in the world (3,), m."""
+        return np.asarray(data.site_xpos[self.site] + data.site_xmat[self.site].reshape(3, 3) @ self.offset)
+
+    def set_target(self, centre: np.ndarray, rotation: np.ndarray) -> None:
+        """Target: the toe point of a sole at ``centre`` (3,) m with the orientation ``rotation`` (3, 3)."""
+        self.target = np.asarray(centre, float) + rotation @ self.offset
+
+    def compute_error(self, configuration: Any) -> np.ndarray:
+        return self.point(configuration.data) - self.target
+
+    def compute_jacobian(self, configuration: Any) -> np.ndarray:
+        d = configuration.data
+        self._mj_jac(configuration.model, d, self._jacp, self._jacr, self.point(d), self.body)
+        return self._jacp.copy()
+
+
 @dataclass(frozen=True)
 class SoleTasks:
     """The sole tasks of one contact state: ``hard`` (equality constraints), ``soft`` (weighted tasks) and,
-    per side (left, right), whether roll and pitch are free (left out of the orientation error)."""
+    per side (left, right), whether roll and pitch are free (left out of the orientation error) and
+    whether the sole is held by its toe point (``pivot``: its position error is then the toe point's)."""
 
     hard: list[Any]
     soft: list[Any]
     free_roll: tuple[bool, bool]
     free_pitch: tuple[bool, bool]
+    pivot: tuple[bool, bool] = (False, False)
 
 
 class SoleTaskSets:
@@ -101,39 +175,71 @@ class SoleTaskSets:
         sole_tasks: (left, right) full-pose ``FrameTask`` of the sole sites (targets set by the IK).
         foot_roll: (left, right) the leg can roll its foot.
         swing_pitch_cost: weight of a swing sole's pitch as a soft task; None: always hard.
+        toe_points: (left, right) :class:`ToePoint` of the soles, with ``toe_off_cost`` the weight of a
+            pivoting sole's pitch; None: no sole pivots.
     """
 
-    def __init__(self, mink: Any, sole_tasks: list[Any], foot_roll: tuple[bool, bool], swing_pitch_cost: float | None):
-        self.sole_tasks = sole_tasks
-        cost = [0.0, swing_pitch_cost, 0.0]
-        self.pitch_tasks = (
-            [mink.FrameTask(t.frame_name, t.frame_type, position_cost=0.0, orientation_cost=cost) for t in sole_tasks]
-            if swing_pitch_cost is not None
-            else []
-        )
+    def __init__(
+        self,
+        mink: Any,
+        sole_tasks: list[Any],
+        foot_roll: tuple[bool, bool],
+        swing_pitch_cost: float | None,
+        toe_points: list[ToePoint] | None = None,
+        toe_off_cost: float | None = None,
+    ):
+        self.sole_tasks, self.toe_points = sole_tasks, toe_points if toe_off_cost is not None else None
+        tasks = sole_tasks
+
+        def pitch(cost: float | None) -> list[Any]:
+            if cost is None:
+                return []
+            w = [0.0, cost, 0.0]
+            return [mink.FrameTask(t.frame_name, t.frame_type, position_cost=0.0, orientation_cost=w) for t in tasks]
+
+        self.pitch_tasks, self.toe_pitch_tasks = pitch(swing_pitch_cost), pitch(toe_off_cost)
+        flags = (True, False)
         self.sets = {
-            (left, right): self._tasks((left, right), foot_roll) for left in (True, False) for right in (True, False)
+            (cl, cr, pl, pr): self._tasks((cl, cr), (pl and cl, pr and cr), foot_roll)
+            for cl in flags
+            for cr in flags
+            for pl in flags
+            for pr in flags
         }
 
-    def _tasks(self, contact: tuple[bool, bool], foot_roll: tuple[bool, bool]) -> SoleTasks:
+    def _tasks(self, contact: tuple[bool, bool], pivot: tuple[bool, bool], foot_roll: tuple[bool, bool]) -> SoleTasks:
         hard: list[Any] = []
         soft: list[Any] = []
-        free_pitch = tuple(bool(self.pitch_tasks) and not c for c in contact)
+        toes = self.toe_points is not None
+        pivot = (pivot[0] and toes, pivot[1] and toes)
+        free_pitch = tuple((bool(self.pitch_tasks) and not c) or p for c, p in zip(contact, pivot, strict=True))
+        held = pivot  # position held at the toe point
         for i, task in enumerate(self.sole_tasks):
             dropped = ([ROLL] if not foot_roll[i] else []) + ([PITCH] if free_pitch[i] else [])
+            dropped += [0, 1, 2] if held[i] else []
             hard.append(RowsTask(task, tuple(r for r in range(6) if r not in dropped)) if dropped else task)
+            if held[i] and self.toe_points is not None:
+                hard.append(self.toe_points[i])
+            if pivot[i]:
+                soft.append(self.toe_pitch_tasks[i])
+            elif free_pitch[i]:
+                soft.append(self.pitch_tasks[i])
             if not foot_roll[i]:
                 soft.append(task)
-            if free_pitch[i]:
-                soft.append(self.pitch_tasks[i])
         free_roll = (not foot_roll[0], not foot_roll[1])
-        return SoleTasks(hard, soft, free_roll, (free_pitch[0], free_pitch[1]))
+        return SoleTasks(hard, soft, free_roll, (free_pitch[0], free_pitch[1]), held)
 
-    def get(self, contact: Any) -> SoleTasks:
-        """The tasks for ``contact`` (2,) bool [left, right] in contact."""
-        return self.sets[(bool(contact[0]), bool(contact[1]))]
+    def get(self, contact: Any, pivot: Any = (False, False)) -> SoleTasks:
+        """The tasks for ``contact`` (2,) bool [left, right] in contact, ``pivot`` (2,) bool the sole may
+        pivot about its toe (only where in contact and toe-off is on)."""
+        return self.sets[(bool(contact[0]), bool(contact[1]), bool(pivot[0]), bool(pivot[1]))]
 
     def set_targets(self) -> None:
-        """Give the swing pitch tasks the sole tasks' targets (call after setting those)."""
+        """Give the pitch tasks and toe points the sole tasks' targets (call after setting those)."""
         for pitch, task in zip(self.pitch_tasks, self.sole_tasks, strict=False):
             pitch.set_target(task.transform_target_to_world)
+        for pitch, task in zip(self.toe_pitch_tasks, self.sole_tasks, strict=False):
+            pitch.set_target(task.transform_target_to_world)
+        for toe, task in zip(self.toe_points or [], self.sole_tasks, strict=False):
+            target = task.transform_target_to_world
+            toe.set_target(target.translation(), target.rotation().as_matrix())

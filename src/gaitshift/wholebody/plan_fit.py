@@ -1,0 +1,176 @@
+"""How far the whole-body motion of a plan departs from the plan, and whether it still has the plan's
+physics (``IKSettings.check_plan_fit``, the reference IK of ``gaitshift export``).
+
+The IK holds the CoM exactly (3 equations, to ``com_tol``) and every flat sole in contact exactly (to
+``pos_tol`` / ``rot_tol``). Two freedoms of the reference IK move a sole off its plan, and each has a
+physical condition, checked here on the solved motion q_k (N samples):
+
+* **toe-off** (:func:`gaitshift.wholebody.ik_tasks.trailing_soles`): the rear sole of a double support
+  may pivot about its toe edge. Its toe stays where the plan put it; its centre rises by
+  ``(L/2) (1 - cos a)`` and its heel by ``L sin a`` for a pivot angle a (L the sole length). A sole
+  whose normal is more than ``rot_tol`` from the planned one touches the ground along its toe edge
+  only, so the support polygon shrinks to the convex hull H of that edge and the other sole's
+  rectangle (the robot's ``sole_size``). The contact forces can only produce the plan's ZMP p_k if
+  p_k lies in H: the margin ``min_e n_e . (p_k - a_e)`` over the hull's edges e (a_e a vertex, n_e
+  the inward normal; the distance to the nearest edge inside, a lower bound of minus the distance
+  outside) must be >= 0. No tolerance beyond 0: outside H the plan's CoM motion needs a tension.
+* **ground**: no corner of a sole in contact (centre +- L/2 along the sole's x, +- W/2 along its y)
+  below the ground of the plan's terrain (``meta["terrain"]``) by more than ``pos_tol`` (the IK's own
+  position tolerance): a pivoting heel must go up. The clearance of the soles in the air is reported
+  (a swing sole's soft pitch can tip a corner below the ground near lift-off or touchdown), not
+  checked.
+
+The report (:class:`PlanFit`, in the IK's ``meta["ik"]["plan_fit"]``) also gives the largest CoM and
+contact-sole errors, so that an export states how closely its motion is the plan's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from gaitshift.models.terrain import Terrain
+
+
+@dataclass(frozen=True)
+class PlanFit:
+    """Deviation of a solved motion from its plan (module docstring); lengths m, angles rad, times s.
+
+    Attributes:
+        com_error_m: max over samples of |c(q_k) - c_k|.
+        contact_sole_error_m: max sole-centre error of the soles in contact that do not pivot.
+        toe_off_samples: samples where a sole pivots (its normal more than ``rot_tol`` off the plan's).
+        toe_off_angle_rad: largest pivot angle; toe_off_rise_m: the largest rise of a pivoting sole's
+            centre above its planned place.
+        zmp_margin_m: smallest margin of the plan's ZMP inside the support polygon of a pivoting sample
+            (None without toe-off); zmp_margin_time_s: when.
+        ground_clearance_m: smallest height of a corner of a sole in contact above the ground (negative:
+            below; a pivoting heel must rise); ground_clearance_time_s: when.
+        swing_clearance_m: the same for the soles in the air (None without swings), reported only (the
+            soft swing pitch, not a freedom of the plan's contacts); swing_clearance_time_s: when.
+    """
+
+    com_error_m: float
+    contact_sole_error_m: float
+    toe_off_samples: int
+    toe_off_angle_rad: float
+    toe_off_rise_m: float
+    zmp_margin_m: float | None
+    zmp_margin_time_s: float | None
+    ground_clearance_m: float
+    ground_clearance_time_s: float
+    swing_clearance_m: float | None = None
+    swing_clearance_time_s: float | None = None
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready fields."""
+        return asdict(self)
+
+
+def sole_frames(model: Any, sites: list[int], qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Sole centres (N, 2, 3) m, sole rotations (N, 2, 3, 3) and whole-body CoM (N, 3) m of each
+    configuration of ``qpos`` (N, nq) (MuJoCo forward kinematics)."""
+    import mujoco
+
+    d = mujoco.MjData(model)
+    n = len(qpos)
+    pos, rot, com = np.empty((n, 2, 3)), np.empty((n, 2, 3, 3)), np.empty((n, 3))
+    for k in range(n):
+        d.qpos[:] = qpos[k]
+        mujoco.mj_kinematics(model, d)
+        mujoco.mj_comPos(model, d)
+        pos[k], rot[k], com[k] = d.site_xpos[sites], d.site_xmat[sites].reshape(2, 3, 3), d.subtree_com[1]
+    return pos, rot, com
+
+
+def hull_margin(points: np.ndarray, p: np.ndarray) -> float:
+    """min over the edges of the convex hull of ``points`` (M, 2) of the inward distance of ``p`` (2,)
+    from the edge's line, m: >= 0 inside (the distance to the nearest edge), < 0 outside."""
+    pts = sorted({(float(x), float(y)) for x, y in points})
+
+    def chain(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        out: list[tuple[float, float]] = []
+        for q in seq:
+            while len(out) >= 2 and (
+                (out[-1][0] - out[-2][0]) * (q[1] - out[-2][1]) - (out[-1][1] - out[-2][1]) * (q[0] - out[-2][0]) <= 0
+            ):
+                out.pop()
+            out.append(q)
+        return out
+
+    hull = np.array(chain(pts)[:-1] + chain(pts[::-1])[:-1])  # counter-clockwise
+    a, b = hull, np.roll(hull, -1, axis=0)
+    edge = b - a
+    normal = np.stack([-edge[:, 1], edge[:, 0]], axis=1) / np.linalg.norm(edge, axis=1, keepdims=True)  # inward
+    return float(np.min(np.sum(normal * (p - a), axis=1)))
+
+
+def _corners(pos: np.ndarray, rot: np.ndarray, size: tuple[float, float]) -> np.ndarray:
+    """The four corners (..., 4, 3) of soles at ``pos`` (..., 3) with rotations ``rot`` (..., 3, 3)."""
+    half_l, half_w = size[0] / 2, size[1] / 2
+    local = np.array([[half_l, half_w, 0], [half_l, -half_w, 0], [-half_l, half_w, 0], [-half_l, -half_w, 0]])
+    out: np.ndarray = pos[..., None, :] + np.einsum("...ij,cj->...ci", rot, local)
+    return out
+
+
+def plan_fit(
+    traj: Any,
+    model: Any,
+    sites: list[int],
+    qpos: np.ndarray,
+    targets: np.ndarray,
+    sole_size: tuple[float, float],
+    rot_tol: float,
+) -> PlanFit:
+    """The :class:`PlanFit` of the motion ``qpos`` (N, nq) solving the plan ``traj`` (N samples), whose
+    sole target rotations were ``targets`` (N, 2, 3, 3), for soles of ``sole_size`` (length, width) m."""
+    pos, rot, com = sole_frames(model, sites, qpos)
+    contact = traj.contact.astype(bool)
+    normal_dot = np.einsum("nsi,nsi->ns", rot[..., :, 2], targets[..., :, 2])
+    angle = np.arccos(np.clip(normal_dot, -1.0, 1.0))
+    pivot = contact & (angle > rot_tol)
+    sole_err = np.linalg.norm(pos - traj.foot_pos, axis=2)
+    flat = contact & ~pivot
+    corners = _corners(pos, rot, sole_size)  # (N, 2, 4, 3)
+    terrain = Terrain.from_list(traj.meta.get("terrain"))
+    clear_each = (corners[..., 2] - terrain.height(corners[..., 0])).min(axis=2)  # (N, 2)
+    clear = np.where(contact, clear_each, np.inf).min(axis=1)
+    kc = int(np.argmin(clear))
+    swing = np.where(contact, np.inf, clear_each).min(axis=1)
+    ks = int(np.argmin(swing))
+    margin, k_margin = None, None
+    for k in np.flatnonzero(pivot.any(axis=1)):
+        pts = [corners[k, s, :2, :2] if pivot[k, s] else corners[k, s, :, :2] for s in (0, 1) if contact[k, s]]
+        m = hull_margin(np.concatenate(pts), traj.zmp[k, :2])
+        if margin is None or m < margin:
+            margin, k_margin = m, int(k)
+    return PlanFit(
+        com_error_m=float(np.linalg.norm(com - traj.com_pos, axis=1).max()),
+        contact_sole_error_m=float(sole_err[flat].max()) if flat.any() else 0.0,
+        toe_off_samples=int(pivot.any(axis=1).sum()),
+        toe_off_angle_rad=float(angle[pivot].max()) if pivot.any() else 0.0,
+        toe_off_rise_m=float((pos[..., 2] - traj.foot_pos[..., 2])[pivot].max()) if pivot.any() else 0.0,
+        zmp_margin_m=margin,
+        zmp_margin_time_s=None if k_margin is None else float(traj.t[k_margin]),
+        ground_clearance_m=float(clear[kc]),
+        ground_clearance_time_s=float(traj.t[kc]),
+        swing_clearance_m=float(swing[ks]) if np.isfinite(swing[ks]) else None,
+        swing_clearance_time_s=float(traj.t[ks]) if np.isfinite(swing[ks]) else None,
+    )
+
+
+def fit_violation(fit: PlanFit, pos_tol: float) -> tuple[float, str, str] | None:
+    """(time s, check, cause) of the first broken condition of ``fit`` (module docstring), or None."""
+    if fit.zmp_margin_m is not None and fit.zmp_margin_m < 0 and fit.zmp_margin_time_s is not None:
+        cause = (
+            f"the plan's ZMP is {-fit.zmp_margin_m * 1e3:.1f} mm outside the support left by the rear sole's "
+            "toe-off (its toe edge and the other sole)"
+        )
+        return fit.zmp_margin_time_s, "toe-off support", cause
+    if fit.ground_clearance_m < -pos_tol:
+        depth = -fit.ground_clearance_m * 1e3
+        cause = f"a sole corner is {depth:.1f} mm below the ground (tolerance {pos_tol * 1e3:g} mm)"
+        return fit.ground_clearance_time_s, "ground", cause
+    return None
