@@ -7,6 +7,8 @@ target (1 - (1 - dt / T)^n) after n ticks.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -46,7 +48,7 @@ def test_a_lateral_gain_above_one_turns_the_divergent_component_back_across_the_
     p = heading_gain(e0, settings, yaw)  # the foothold's offset from the plan's
     dt, t_star = 1e-5, np.log(k_y / (k_y - 1.0)) / omega
     e = e0.copy()
-    for _ in range(int(round(t_star / dt))):
+    for _ in range(round(t_star / dt)):
         e = e + dt * omega * (e - p)
     along, across = rot.T @ e
     assert along == pytest.approx(0.03, abs=1e-9)
@@ -141,8 +143,9 @@ def test_an_error_the_stance_sole_can_take_back_moves_no_foothold():
     footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
     com, zero, vel = np.array([0.1, 0.0, 0.6]), np.zeros(3), np.array([0.0, 0.04, 0.0])
     ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0, np.array([0.0, 0.5]))
-    with_room = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None, cop_room=True), omega=omega, room=(0.085, 0.025))
-    without = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None, cop_room=False), omega=omega, room=(0.085, 0.025))
+    room, plain = (0.085, 0.025), CaptureSettings(kinematic_limits=False, lateral_gain=None)
+    with_room = PlanShift(replace(plain, cop_room=True), omega=omega, room=room)
+    without = PlanShift(replace(plain, cop_room=False), omega=omega, room=room)
     for shift in (with_room, without):
         shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
     np.testing.assert_array_equal(with_room.offset[0], [0.0, 0.0, 0.0])

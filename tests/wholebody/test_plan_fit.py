@@ -3,7 +3,6 @@ closed forms:
 
 * the trailing sole of a double support is the one that lifts off next, and no sole of a single
   support or a flight is one;
-* the hull margin is the distance to the nearest edge inside the support polygon and negative outside;
 * the toe-off check refuses a ZMP outside the support a pivoting sole leaves, and the ground check a
   sole in contact below the ground, each as one (time, check, cause).
 """
@@ -11,10 +10,9 @@ closed forms:
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from gaitshift.wholebody.ik_tasks import trailing_soles
-from gaitshift.wholebody.plan_fit import PlanFit, fit_violation, hull_margin
+from gaitshift.wholebody.plan_fit import PlanFit, fit_violation
 
 
 def test_the_trailing_sole_is_the_double_support_foot_that_lifts_next():
@@ -22,16 +20,6 @@ def test_the_trailing_sole_is_the_double_support_foot_that_lifts_next():
     contact = np.array([[1, 1], [1, 1], [1, 0], [1, 1], [1, 1], [0, 1], [0, 0], [1, 1]], bool)
     expected = np.array([[0, 1], [0, 1], [0, 0], [1, 0], [1, 0], [0, 0], [0, 0], [0, 0]], bool)
     np.testing.assert_array_equal(trailing_soles(contact), expected)
-
-
-def test_the_hull_margin_is_the_distance_to_the_nearest_edge_inside_and_negative_outside():
-    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]])  # an inner point too
-    assert hull_margin(square, np.array([0.5, 0.2])) == pytest.approx(0.2)
-    assert hull_margin(square, np.array([0.5, 0.5])) == pytest.approx(0.5)
-    assert hull_margin(square, np.array([1.3, 0.5])) == pytest.approx(-0.3)
-    toe_and_sole = np.array([[0.0, 0.1], [0.0, 0.2], [0.3, -0.2], [0.3, -0.1], [0.5, -0.2], [0.5, -0.1]])
-    assert hull_margin(toe_and_sole, np.array([0.2, 0.0])) > 0  # between the toe edge and the other sole
-    assert hull_margin(toe_and_sole, np.array([-0.05, 0.15])) < 0  # behind the toe edge: the lifted heel
 
 
 def fit(zmp_margin: float | None, clearance: float) -> PlanFit:

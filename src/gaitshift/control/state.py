@@ -27,8 +27,9 @@ Friction: the controller starts from ``assumed_friction`` and, on the estimated 
 controller does not load, so its slide says nothing of the floor: a running foot that lands before its
 planned touchdown slides in on its impact, and a swinging sole wrongly taken for a stance one (contact
 from the motors' torques) moves with its leg. Counted, those onsets took the G1 tour on torque contact
-from 0.45 to 0.10 within 0.55 s and it fell at 12.33 s (docs/estimation.md). On the oracle it is kept fixed: on the G1 tour (floor friction
-1.0) brief sole slides at running impacts lowered it to 0.23 and worsened the tracking.
+from 0.45 to 0.10 within 0.55 s and it fell at 12.33 s (docs/estimation.md). On the oracle it is kept
+fixed: on the G1 tour (floor friction 1.0) brief sole slides at running impacts lowered it to 0.23 and
+worsened the tracking.
 """
 
 from __future__ import annotations

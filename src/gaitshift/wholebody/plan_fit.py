@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from gaitshift.common.hull import hull_margin
 from gaitshift.models.terrain import Terrain
 
 
@@ -83,28 +84,6 @@ def sole_frames(model: Any, sites: list[int], qpos: np.ndarray) -> tuple[np.ndar
         mujoco.mj_comPos(model, d)
         pos[k], rot[k], com[k] = d.site_xpos[sites], d.site_xmat[sites].reshape(2, 3, 3), d.subtree_com[1]
     return pos, rot, com
-
-
-def hull_margin(points: np.ndarray, p: np.ndarray) -> float:
-    """min over the edges of the convex hull of ``points`` (M, 2) of the inward distance of ``p`` (2,)
-    from the edge's line, m: >= 0 inside (the distance to the nearest edge), < 0 outside."""
-    pts = sorted({(float(x), float(y)) for x, y in points})
-
-    def chain(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
-        out: list[tuple[float, float]] = []
-        for q in seq:
-            while len(out) >= 2 and (
-                (out[-1][0] - out[-2][0]) * (q[1] - out[-2][1]) - (out[-1][1] - out[-2][1]) * (q[0] - out[-2][0]) <= 0
-            ):
-                out.pop()
-            out.append(q)
-        return out
-
-    hull = np.array(chain(pts)[:-1] + chain(pts[::-1])[:-1])  # counter-clockwise
-    a, b = hull, np.roll(hull, -1, axis=0)
-    edge = b - a
-    normal = np.stack([-edge[:, 1], edge[:, 0]], axis=1) / np.linalg.norm(edge, axis=1, keepdims=True)  # inward
-    return float(np.min(np.sum(normal * (p - a), axis=1)))
 
 
 def _corners(pos: np.ndarray, rot: np.ndarray, size: tuple[float, float]) -> np.ndarray:

@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitshift.control.estimation.slip import SlipDetector, convex_hull_xy, distance_to_polygon
+from gaitshift.common.hull import convex_hull_xy
+from gaitshift.control.estimation.slip import SlipDetector, distance_to_polygon
 
 DT, SPEED, TAU = 0.002, 0.2, 0.03
 #: a G1-like sole: contact points (sole frame, relative to the centre), m

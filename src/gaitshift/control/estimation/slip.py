@@ -37,28 +37,7 @@ from typing import Any
 
 import numpy as np
 
-
-def convex_hull_xy(points: np.ndarray) -> np.ndarray:
-    """Vertices (k, 3) of the convex hull of ``points`` (n, 3) in their x-y plane, counter-clockwise
-    (Andrew's monotone chain); collinear and repeated points are dropped."""
-    pts = np.asarray(points, float).reshape(-1, 3)
-    order = sorted(range(len(pts)), key=lambda i: (pts[i, 0], pts[i, 1]))
-
-    def half(idx: list[int]) -> list[int]:
-        out: list[int] = []
-        for i in idx:
-            while len(out) >= 2:
-                a, b = pts[out[-2], :2], pts[out[-1], :2]
-                if (b[0] - a[0]) * (pts[i, 1] - a[1]) - (b[1] - a[1]) * (pts[i, 0] - a[0]) > 1e-12:
-                    break
-                out.pop()
-            out.append(i)
-        return out
-
-    if len(pts) <= 2:
-        return pts
-    lower, upper = half(order), half(order[::-1])
-    return pts[lower[:-1] + upper[:-1]]
+from gaitshift.common.hull import convex_hull_xy
 
 
 def distance_to_polygon(u: Any) -> float:
