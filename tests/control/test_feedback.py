@@ -37,7 +37,8 @@ def test_offset_is_the_gain_times_the_capture_point_error_clipped_per_axis():
 
 @pytest.mark.parametrize("yaw", [0.0, 0.7, -2.5])
 def test_a_lateral_gain_above_one_turns_the_divergent_component_back_across_the_heading(yaw):
-    """The foothold moved by diag(k, k_y) of the error in the heading frame; on that stance the LIPM's
+    """The foothold moved by diag(k, k_y) of the error in the heading frame (k_y on the part beyond the
+    sole's lateral CoP room, none here; k alone on a running step); on that stance the LIPM's
     divergent component obeys xi' = omega (xi - p), so an error e0 becomes
     e(t) = k e0 + (1 - k) e0 exp(omega t) per heading axis: held for k = 1 (along the heading), and
     back to zero at t* = ln(k / (k - 1)) / omega for k > 1 (across). Integrated here, any heading."""
@@ -54,6 +55,11 @@ def test_a_lateral_gain_above_one_turns_the_divergent_component_back_across_the_
     assert along == pytest.approx(0.03, abs=1e-9)
     assert abs(across) < 1e-4 * 0.05 * np.exp(omega * t_star)
     np.testing.assert_allclose(heading_gain(e0, CaptureSettings(gain=0.8, lateral_gain=None), yaw), 0.8 * e0)
+    room = 0.035  # the sole's half width: the lateral gain acts only beyond it, and not on a running step
+    np.testing.assert_allclose(heading_gain(rot @ [0.0, 0.02], settings, yaw, True, room), rot @ [0.0, 0.02])
+    beyond = heading_gain(rot @ [0.0, -0.05], settings, yaw, True, room)
+    np.testing.assert_allclose(beyond, rot @ [0.0, -0.05 - (k_y - 1.0) * 0.015], atol=1e-15)
+    np.testing.assert_allclose(heading_gain(e0, settings, yaw, False), e0)
 
 
 def test_landing_moves_the_foot_correction_into_the_plan_shift_target():

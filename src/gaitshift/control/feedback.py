@@ -45,17 +45,20 @@ of the feet: :mod:`gaitshift.control.step_limits`, derived from the robot model)
 ``max_step_adjust`` is set, the correction is also clipped to it per axis. The correction is
 recomputed every tick until ``freeze_u``, so the swing foot re-targets mid-swing.
 
-Across the heading the gain of a walking step (one that lands into a double support) is
-``lateral_gain`` (1.3 by default); along the heading, and on a running step, it is ``gain`` (1):
+Across the heading, on a walking step (one that lands into a double support), the part of the error
+beyond the stance sole's lateral CoP room (its half width ``d_y``) gets ``lateral_gain`` (1.3 by
+default); the rest of it, the error along the heading, and a running step get ``gain`` (1):
 
-    delta = R(psi) diag(k, k_y) R(psi)^T e
+    delta_x = k e_x,   delta_y = k e_y + (k_y - k) sign(e_y) max(0, |e_y| - d_y)
 
-(:func:`heading_gain`, ``psi`` the plan's heading, ``e`` the predicted error). A lateral error can be
+(:func:`heading_gain`, heading frame of the plan, ``e`` the predicted error). A lateral error can be
 taken back only by the foot on its side: the other foot's correction is clipped by the no-crossing
 limit. With k_y = 1 the push-side foot lands at the capture point and the lateral velocity is held,
 not removed; after a lateral push of 0.3-0.5 m/s the G1 walked sideways at 0.3-0.8 m/s until the
 reach limit bound and it fell (docs/robustness.md, "The mechanism"). Beyond the capture point the
-LIPM's divergent component turns back. Along the heading both feet act: a gain of 1.3 there made
+LIPM's divergent component turns back. An error within the sole's half width the ankle takes back
+on the next stance (the CoP moves toward it); over-correcting it too made g1-stairs-down (seed 0)
+fall at 5.25 s. Along the heading both feet act: a gain of 1.3 there made
 g1-top-speed (seed 0) and g1-run-slope-up (seed 1) fall, and 1.3 across on running steps made
 g1-top-speed seed 2 fall at 7.71 s (all three hold with 1). Measured on the survival spec before and
 after in docs/robustness.md.
@@ -148,16 +151,25 @@ def taking_back(cop: np.ndarray, err: np.ndarray, yaw: float) -> np.ndarray:
     return np.asarray(rot @ np.where(off * (rot.T @ err) > 0.0, off, 0.0))
 
 
-def heading_gain(err: np.ndarray, settings: CaptureSettings, yaw: float, walking: bool = True) -> np.ndarray:
+def heading_gain(
+    err: np.ndarray, settings: CaptureSettings, yaw: float, walking: bool = True, room: float = 0.0
+) -> np.ndarray:
     """The foothold correction (2,) m for the predicted divergent-component error ``err`` (2,) m, both
-    world-frame: ``gain`` along the heading ``yaw`` (rad) and ``lateral_gain`` across it on a
-    ``walking`` step (a double support follows the touchdown; ``gain`` otherwise),
+    world-frame (module docstring, "Across the heading"): ``gain`` along the heading ``yaw`` (rad); across
+    it, on a ``walking`` step (a double support follows the touchdown), ``lateral_gain`` on the part of
+    the error beyond the stance sole's lateral CoP ``room`` (m, its half width), ``gain`` on the rest:
 
-    .. math:: \\delta = R(\\psi) \\operatorname{diag}(k, k_y) R(\\psi)^T e.
+    .. math:: \\delta_x = k e_x,\\qquad
+              \\delta_y = k e_y + (k_y - k) \\operatorname{sign}(e_y) \\max(0, |e_y| - d_y)
+
+    in the heading frame; a running step has ``gain`` on both axes.
     """
-    lateral = settings.lateral_gain if walking and settings.lateral_gain is not None else settings.gain
     rot = rot2(yaw)
-    return np.asarray(rot @ (np.array([settings.gain, lateral]) * (rot.T @ err)))
+    e = rot.T @ err
+    out = settings.gain * e
+    if walking and settings.lateral_gain is not None:
+        out[1] += (settings.lateral_gain - settings.gain) * np.sign(e[1]) * max(0.0, abs(e[1]) - room)
+    return np.asarray(rot @ out)
 
 
 def capture_point_offset(
@@ -241,6 +253,7 @@ class PlanShift:
         self.settings = settings
         self.omega = omega
         cop = room if isinstance(room, CopRoom) else CopRoom.sole_only(room)
+        self.half = np.asarray(cop.half, float)  # the sole's half length and half width, m
         self.cop = cop if settings.cop_room and cop.half.any() else None
         self.weight = weight
         self.limits = limits if settings.kinematic_limits else None
@@ -327,7 +340,7 @@ class PlanShift:
             walking = ctx is None or ctx.double_support_ahead(s, stance)
             e = dcm_error_after(err[:2], growth, cop, yaw) if cop is not None else growth * err[:2]
             delta = np.zeros(3)
-            delta[:2] = np.clip(heading_gain(e, cfg, yaw, walking), -clip, clip)
+            delta[:2] = np.clip(heading_gain(e, cfg, yaw, walking, self.half[1]), -clip, clip)
             if self.limits is not None and ctx is not None:
                 base = ctx.footholds[s] + self.shift
                 o = 1 - s
