@@ -197,7 +197,8 @@ class ControllerState:
         self.estimator: StateEstimator | None = None
         self.torque_contact: TorqueContact | None = None
         self._window: AccelerationWindow | None = None
-        self._force0 = np.full(2, robot.mass * -robot.model.opt.gravity[2] / 2)  # at rest on both feet, until the window fills
+        # at rest on both feet, until the window fills
+        self._force0 = np.full(2, robot.mass * -robot.model.opt.gravity[2] / 2)
         self.record: EstimateRecord | None = None
         self.ticks = 0
         if contact == "torque":

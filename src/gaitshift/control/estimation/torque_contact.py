@@ -111,7 +111,6 @@ class TorqueContact:
             out[s] = float(wrench[:3] @ rot[:, 2])
         return out
 
-
     def self_touching(self, data: Any) -> np.ndarray:
         """(2,) bool: each leg touches the robot itself in ``data`` (the controller's floorless model
         after ``mj_forward``, whose contacts are all between the robot's own geoms): a contact with a
