@@ -115,7 +115,7 @@ class TorqueContact:
         """(2,) bool: each leg touches the robot itself in ``data`` (the controller's floorless model
         after ``mj_forward``, whose contacts are all between the robot's own geoms): a contact with a
         geom of the leg (a body of its chain from the sole to the base). Eq. (2) then reads that contact's
-        force as the sole's (module docstring, "A leg touching the robot itself")."""
+        force as the sole's (docs/estimation.md, "A leg touching the robot itself")."""
         out = np.zeros(2, bool)
         if data.ncon:
             legs = self.geom_leg[data.contact.geom[: data.ncon]]
