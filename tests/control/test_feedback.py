@@ -89,7 +89,7 @@ def test_shift_follows_its_target_with_a_first_order_lag():
 def test_only_swinging_feet_before_the_freeze_point_are_corrected(gain, updated):
     """Foot 0 swings at u = 0.5 (corrected unless the gain is 0), foot 1 at u = 0.8 > freeze_u (frozen);
     stance feet are never corrected."""
-    shift = PlanShift(CaptureSettings(gain=gain, lateral_gain=None, freeze_u=0.7), omega=4.0)
+    shift = PlanShift(CaptureSettings(gain=gain, freeze_u=0.7), omega=4.0)
     shift.target[:] = [0.01, 0.0, 0.0]
     com, vel = np.array([0.2, 0.05, 0.6]), np.array([0.3, 0.0, 0.0])
     plan_com, plan_vel = np.array([0.15, 0.0, 0.6]), np.array([0.3, 0.0, 0.0])
@@ -149,7 +149,7 @@ def test_an_error_the_stance_sole_can_take_back_moves_no_foothold():
     footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])
     com, zero, vel = np.array([0.1, 0.0, 0.6]), np.zeros(3), np.array([0.0, 0.04, 0.0])
     ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0, np.array([0.0, 0.5]))
-    room, plain = (0.085, 0.025), CaptureSettings(kinematic_limits=False, lateral_gain=None)
+    room, plain = (0.085, 0.025), CaptureSettings(kinematic_limits=False)
     with_room = PlanShift(replace(plain, cop_room=True), omega=omega, room=room)
     without = PlanShift(replace(plain, cop_room=False), omega=omega, room=room)
     for shift in (with_room, without):
@@ -194,8 +194,8 @@ def test_the_commanded_cop_is_what_the_touchdown_prediction_leaves_to_the_stance
         return cop
 
     ctx = SwingContext(footholds, footholds.copy(), np.array([tau, 0.0]), 0.0, np.array([0.0, 0.5]), None, reported)
-    on = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None), omega=omega)
-    off = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None, commanded_cop=False), omega=omega)
+    on = PlanShift(CaptureSettings(kinematic_limits=False), omega=omega)
+    off = PlanShift(CaptureSettings(kinematic_limits=False, commanded_cop=False), omega=omega)
     for shift in (on, off):
         shift.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
     err = vel[:2] / omega

@@ -53,7 +53,7 @@ def test_clamp_keeps_a_foothold_in_the_reach_disc_and_off_the_other_foot():
 
 def test_a_swing_foot_re_targets_mid_swing_inside_the_limits_until_the_freeze_point():
     lim = StepLimits(reach=0.25, hip_offset=0.06, min_width=0.07)
-    shift = PlanShift(CaptureSettings(lateral_gain=None), omega=4.0, limits=lim)
+    shift = PlanShift(CaptureSettings(), omega=4.0, limits=lim)
     footholds = np.array([[0.3, 0.12, 0.0], [0.0, -0.12, 0.0]])  # left swings to (0.3, 0.12)
     ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0)
     stance = np.array([False, True])
@@ -71,7 +71,7 @@ def test_a_swing_foot_re_targets_mid_swing_inside_the_limits_until_the_freeze_po
     # pushed right: the left foot would cross the right one; it stops min_width left of it
     assert footholds[0, 1] + seen[3][1] == pytest.approx(-0.12 + 0.07)
     np.testing.assert_array_equal(seen[4], seen[3])  # frozen after u = 0.7
-    off = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None), omega=4.0, limits=lim)
+    off = PlanShift(CaptureSettings(kinematic_limits=False), omega=4.0, limits=lim)
     off.correct_swings(stance, np.array([0.6, 0.0]), com, np.array([0.0, -1.6, 0.0]), ref, zero, ctx)
     assert off.offset[0][1] == pytest.approx(-1.6 / 4.0)  # without the limits: the raw correction
 
@@ -85,10 +85,10 @@ def test_the_correction_is_the_error_predicted_at_touchdown_on_the_other_foots_s
     vel = np.array([0.0, 0.2, 0.0])  # capture-point error 0.05 m to the left
     for stance_left, stance_r, tau in ((0.1, True, 0.1), (0.5, True, 0.2), (0.5, False, 0.0)):
         ctx = SwingContext(footholds, footholds.copy(), np.array([0.2, 0.0]), 0.0, np.array([0.0, stance_left]))
-        shift = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None), omega=omega)
+        shift = PlanShift(CaptureSettings(kinematic_limits=False), omega=omega)
         shift.correct_swings(np.array([False, stance_r]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
         assert shift.offset[0][1] == pytest.approx(0.05 * math.exp(omega * tau)), (stance_left, stance_r)
-    plain = PlanShift(CaptureSettings(kinematic_limits=False, lateral_gain=None, predict_touchdown=False), omega=omega)
+    plain = PlanShift(CaptureSettings(kinematic_limits=False, predict_touchdown=False), omega=omega)
     plain.correct_swings(np.array([False, True]), np.array([0.3, 0.0]), com, vel, com, zero, ctx)
     assert plain.offset[0][1] == pytest.approx(0.05)
 
