@@ -61,10 +61,9 @@ on the next stance (the CoP moves toward it); over-correcting it too made g1-sta
 fall at 5.25 s. Measured on the G1 survival spec with k_y = 1.3 against k_y = 1, on the same 1445
 cases: 88 falls each (26 cases rescued, 26 new falls, at pushes from 0.03 to 0.49 m/s: the
 outcome of a marginal case flips with any small change), so it is not the default
-(docs/robustness.md, "The same spec before and after"). Along the heading both feet act: a gain of 1.3 there made
-g1-top-speed (seed 0) and g1-run-slope-up (seed 1) fall, and 1.3 across on running steps made
-g1-top-speed seed 2 fall at 7.71 s (all three hold with 1). Measured on the survival spec before and
-after in docs/robustness.md.
+(docs/robustness.md, "The same spec before and after"). Along the heading both feet act: a gain of
+1.3 there made g1-top-speed (seed 0) and g1-run-slope-up (seed 1) fall, and 1.3 across on running
+steps made g1-top-speed seed 2 fall at 7.71 s (all three hold with 1).
 
 When the foot lands, the whole remaining plan (CoM reference and later footholds) is translated by
 its correction, blended in with the first-order lag ``shift' = (target - shift) / shift_time`` (one
@@ -168,11 +167,12 @@ def heading_gain(
 
     in the heading frame; a running step has ``gain`` on both axes.
     """
+    if not walking or settings.lateral_gain is None:
+        return np.asarray(settings.gain * err)
     rot = rot2(yaw)
     e = rot.T @ err
     out = settings.gain * e
-    if walking and settings.lateral_gain is not None:
-        out[1] += (settings.lateral_gain - settings.gain) * np.sign(e[1]) * max(0.0, abs(e[1]) - room)
+    out[1] += (settings.lateral_gain - settings.gain) * np.sign(e[1]) * max(0.0, abs(e[1]) - room)
     return np.asarray(rot @ out)
 
 
