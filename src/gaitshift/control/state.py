@@ -246,7 +246,7 @@ class ControllerState:
         else:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
             joints = JointReading(q=frame.q, qd=frame.dq)
-            forces = FootForces(normal=self._sole_forces(frame, planned))
+            forces = FootForces(normal=self._sole_forces(frame))
             t0 = time.perf_counter()
             s = self.estimator.step(imu, joints, forces, planned)
             cost = 1e6 * (time.perf_counter() - t0)
@@ -263,34 +263,27 @@ class ControllerState:
         self.record = EstimateRecord(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
         return view
 
-    def _sole_forces(self, frame: SensorFrame, planned: np.ndarray) -> np.ndarray:
+    def _sole_forces(self, frame: SensorFrame) -> np.ndarray:
         """The sole normal forces (2,) N the contact detector reads: the frame's foot force, or eq. (2)
-        of :mod:`~gaitshift.control.estimation.torque_contact` on the last tick's state (the plan's
-        ``planned`` (2,) flags for a leg touching the robot itself)."""
+        of :mod:`~gaitshift.control.estimation.torque_contact` on the last tick's state."""
         if self.torque_contact is not None:
-            return self._torque_forces(frame.tau_est, planned)
+            return self._torque_forces(frame.tau_est)
         if frame.foot_force is None:
             allowed = "the sole normal forces, N (or a controller with contact='torque')"
             raise InputError("SensorFrame.foot_force", None, allowed)
         return frame.foot_force
 
-    def _torque_forces(self, tau_est: np.ndarray, planned: np.ndarray) -> np.ndarray:
+    def _torque_forces(self, tau_est: np.ndarray) -> np.ndarray:
         """Eq. (2) of :mod:`~gaitshift.control.estimation.torque_contact` at the centre of the last
         ``2 n + 1`` ticks (:class:`~gaitshift.control.estimation.torque_contact.AccelerationWindow`).
-        A leg that touches the robot itself there (in the controller's own floorless model at its
-        estimated state) reads the plan instead: its share of the weight where ``planned`` (2,) says
-        stance, else 0 (eq. (2) would read the self-contact's force as the sole's)."""
+        """
         window, contact = self._window, self.torque_contact
         assert window is not None and contact is not None
         window.push(self.cdata.qpos, self.cdata.qvel, tau_est)
         if not window.full:
             return self._force0.copy()
         d = window.centre_data(self.robot.model)
-        forces = contact.normal_forces(d, window.mean_torque(), window.acceleration())
-        touching = contact.self_touching(d)
-        if touching.any():
-            forces = np.where(touching, np.where(np.asarray(planned, bool), self._force0, 0.0), forces)
-        return forces
+        return contact.normal_forces(d, window.mean_torque(), window.acceleration())
 
     def sent(self, qdd: np.ndarray | None) -> None:
         """The command just sent planned the accelerations ``qdd`` (nv,) (None: the QP failed)."""

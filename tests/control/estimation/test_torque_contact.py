@@ -159,20 +159,3 @@ def test_a_torque_step_inside_the_window_reads_no_sole_force(ctrl):
         worst["uniform"] = max(worst["uniform"], *np.abs(contact.normal_forces(centre, uniform, acc)))
     assert worst["triangular"] < 1.0  # newtons: M, b and J vary a little over the window
     assert worst["uniform"] > 10 * worst["triangular"]
-
-
-def test_a_leg_pressed_into_the_other_is_found_touching_the_robot_itself(ctrl):
-    """In the controller's floorless model every contact is between the robot's own geoms: none in the
-    standing pose; with the left hip rolled across the right leg both legs touch (eq. (2) would read
-    that contact's force as a sole force), and the flag follows MuJoCo's contact list of the model."""
-    tc = TorqueContact(ctrl.robot)
-    m = ctrl.robot.model
-    d = mujoco.MjData(m)
-    d.qpos[:] = ctrl.initial_qpos()
-    mujoco.mj_forward(m, d)
-    assert not tc.self_touching(d).any()
-    roll = m.joint("left_hip_roll_joint")
-    d.qpos[roll.qposadr[0]] = roll.range[0]  # the left leg swung inward, across the right one
-    mujoco.mj_forward(m, d)
-    assert d.ncon > 0
-    np.testing.assert_array_equal(tc.self_touching(d), [True, True])

@@ -46,16 +46,6 @@ from gaitshift.errors import InputError
 __all__ = ["TorqueContact"]
 
 
-def leg_bodies(model: Any, body: int) -> np.ndarray:
-    """The bodies on the chain from ``body`` up to (not including) the floating base (body 1's root)."""
-    out: list[int] = []
-    b = body
-    while b > 0 and int(model.body_parentid[b]) > 0:
-        out.append(b)
-        b = int(model.body_parentid[b])
-    return np.array(sorted(out), dtype=int)
-
-
 def leg_dofs(model: Any, body: int) -> np.ndarray:
     """The hinge and slide dofs on the chain from ``body`` up to (not including) the floating base."""
     dofs: list[int] = []
@@ -82,11 +72,6 @@ class TorqueContact:
         if any(len(legs) < 3 for legs in self.legs):
             raise InputError("robot.soles", [len(legs) for legs in self.legs], "legs of at least 3 joints each")
         self.actuated = np.asarray(robot.actuated_dofs)
-        leg_of_body = np.full(m.nbody, -1)
-        for side, s in enumerate(robot.soles):
-            leg_of_body[leg_bodies(m, s.body)] = side
-        #: the leg (0 left, 1 right, -1 none) of each geom (ngeom,)
-        self.geom_leg = leg_of_body[m.geom_bodyid]
         self._jac = np.zeros((6, m.nv))
         self._r = np.zeros(m.nv)
         self._ma = np.zeros(m.nv)
@@ -109,17 +94,6 @@ class TorqueContact:
             mujoco.mj_jac(m, data, jac[:3], jac[3:], centre, self.robot.soles[s].body)
             wrench, *_ = np.linalg.lstsq(jac[:, dofs].T, r[dofs], rcond=None)  # (n_leg, 6) J_leg^T
             out[s] = float(wrench[:3] @ rot[:, 2])
-        return out
-
-    def self_touching(self, data: Any) -> np.ndarray:
-        """(2,) bool: each leg touches the robot itself in ``data`` (the controller's floorless model
-        after ``mj_forward``, whose contacts are all between the robot's own geoms): a contact with a
-        geom of the leg (a body of its chain from the sole to the base). Eq. (2) then reads that contact's
-        force as the sole's (docs/estimation.md, "A leg touching the robot itself")."""
-        out = np.zeros(2, bool)
-        if data.ncon:
-            legs = self.geom_leg[data.contact.geom[: data.ncon]]
-            out[0], out[1] = bool((legs == 0).any()), bool((legs == 1).any())
         return out
 
 
