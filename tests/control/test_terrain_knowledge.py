@@ -48,8 +48,14 @@ def test_a_live_command_scenario_on_terrain_runs_blind_and_refuses_known():
     assert prepare(in_block)[2] is not None
 
 
-@pytest.mark.parametrize("bad", ["perceived", "told", "x"])
+@pytest.mark.parametrize("bad", ["told", "x", "Perceived"])
 def test_an_unknown_terrain_knowledge_is_one_line_naming_the_flag(bad):
     with pytest.raises(InputError) as info:
         prepare("g1-stairs-up", terrain=bad)
-    assert info.value.field == "--terrain" and "known, blind" in info.value.allowed
+    assert info.value.field == "--terrain" and "known, blind, perceived" in info.value.allowed
+
+
+def test_perceived_on_a_live_command_scenario_is_one_line_naming_the_flag():
+    with pytest.raises(InputError) as info:
+        prepare(load_scenario(LOCOMOTION_ON_A_STEP), terrain="perceived")
+    assert info.value.field == "--terrain" and "tvlip only" in info.value.allowed

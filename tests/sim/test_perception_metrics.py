@@ -31,3 +31,34 @@ def test_the_error_is_measured_on_seen_stance_cells_and_the_frame_error_removes_
     assert p["map_error_median"] == pytest.approx(np.median(errs)) and p["map_error_p95"] == pytest.approx(0.023)
     assert p["frame_error_median"] == pytest.approx(0.001) and p["frame_error_p95"] == pytest.approx(0.003)
     assert perception_metrics({"contact": contact}, 0) == {}
+
+
+def test_a_stance_is_a_contact_of_at_least_min_stance_and_counts_at_its_middle():
+    from gaitshift.sim.perception_metrics import MIN_STANCE, stances
+
+    dt = 0.01
+    c = np.zeros((40, 2), bool)
+    c[0:10, 0] = True  # 0.10 s: a stance, middle tick 4
+    c[20:22, 0] = True  # 0.02 s: a toe scuffing in a swing
+    c[30:40, 1] = True  # runs to the end: middle tick 34
+    m = stances(c, dt)
+    assert MIN_STANCE <= 0.1
+    assert np.flatnonzero(m[:, 0]).tolist() == [4] and np.flatnonzero(m[:, 1]).tolist() == [34]
+
+
+def test_edge_distance_is_measured_from_the_true_sole_to_the_nearest_step_edge():
+    from gaitshift.models.terrain import Piece, Terrain
+    from gaitshift.sim.perception_metrics import edge_distances
+
+    ground = Terrain(
+        (Piece(1.0, 1.25, 0.1, 0.1), Piece(1.25, 3.0, 0.0, 0.0), Piece(3.0, 4.0, 0.0, 0.2), Piece(4.0, 9.0, 0.2, 0.2))
+    )
+    at = np.array([[True, False], [False, True], [True, False]])
+    x = np.array([[1.13, 9.0], [0.0, 2.9], [0.5, 0.0]])
+    d = edge_distances(at, x, ground, 0.17)
+    # 1.13: 0.12 from the edge at 1.25; 2.9: 1.65 from 1.25 (the ramp's foot at 3.0 and its top at 4.0 are
+    # no step edges); 0.5: 0.5 from 1.0; less half the sole
+    expect = np.array([0.12, 1.65, 0.5]) - 0.085
+    assert d["edge_distance_min"] == pytest.approx(expect.min())
+    assert d["edge_distance_median"] == pytest.approx(np.median(expect))
+    assert edge_distances(at, x, Terrain(), 0.17) == {}

@@ -66,8 +66,9 @@ def simulate_cmd(
     terrain: str | None = typer.Option(
         None,
         "--terrain",
-        help="What the planner is told of the scenario's terrain: known (default) or blind (it plans on flat"
-        " ground; the world keeps the terrain).",
+        help="What the planner is told of the scenario's terrain: known (default), blind (it plans on flat"
+        " ground) or perceived (footholds from the robot's elevation map; TV-LIPM scenarios). The world"
+        " keeps the terrain.",
     ),
     rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
     video_size: str | None = typer.Option(None, "--video-size", help="Video size WIDTHxHEIGHT, pixels (1280x720)."),

@@ -95,6 +95,7 @@ class Controller:
         driver: PlanDriver | None = None,
     ) -> None:
         s = settings or ControllerSettings()
+        perceives = getattr(driver, "perceives", False)  # footholds from the map: the driver reads it in the tick
         if driver is not None:
             plan = driver.trajectory
             if not driver.step_feedback:
@@ -135,6 +136,12 @@ class Controller:
         self.record: TickRecord | None = None
         cam = robot.robot.sensors.depth_camera
         self.perceiver = None if cam is None else Perceiver(robot.model, cam)  # the elevation map
+        if perceives:
+            if self.perceiver is None:
+                raise InputError("terrain", "perceived", f"known or blind ({robot.robot.name} has no depth camera)")
+            if s.replan != "inline":
+                raise InputError("replan", s.replan, "inline with perceived terrain (the map is the tick's)")
+            self.replan.driver.see(self.perceiver.map)  # type: ignore[union-attr]
 
     @classmethod
     def from_scenario(
@@ -241,7 +248,7 @@ class Controller:
         planned = self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)]  # the plan's flags
         view = self.state.observe(frame, planned)
         if frame.depth_points is not None and self.perceiver is not None:
-            self.perceiver.frame(frame.t, frame.depth_points, view.data, self.state.position_std() ** 2)
+            self.perceiver.frame(frame.t, frame.depth_points, view.data)
         i = self._plan_index(tp, view)
         tau, ref, info = self._control(tp, i, view)
         self.state.sent(info.qdd)

@@ -68,12 +68,13 @@ def prepare(
     ``terrain`` says what the planner is told of the scenario's ``terrain:``
     (:data:`gaitshift.scenario.sim_settings.TERRAIN_KNOWLEDGE`; None: the scenario's ``sim: terrain``,
     else ``known``): ``blind`` plans on flat ground at the height the robot starts on (a blind robot
-    still knows where it stands). The scenario returned keeps its terrain: the world is built on it
-    whatever the planner knows.
+    still knows where it stands); ``perceived`` starts on the blind plan and moves its footholds onto
+    the controller's elevation map (:class:`~gaitshift.control.perceived_driver.PerceivedDriver`). The
+    scenario returned keeps its terrain: the world is built on it whatever the planner knows.
 
     Raises:
-        InputError: an unknown ``terrain``, or ``known`` terrain for a live-command scenario (its
-            generator plans on flat ground).
+        InputError: an unknown ``terrain``; ``known`` terrain for a live-command scenario (its
+            generator plans on flat ground); ``perceived`` for a planner other than ``tvlip``.
     """
     from gaitshift.api import plan, robot_facts, with_robot
     from gaitshift.robots.config import RobotConfig, load_robot
@@ -83,7 +84,12 @@ def prepare(
     given = robot if isinstance(robot, RobotConfig) else None
     sc, robot_name = with_robot(sc, None if given is not None else (None if robot is None else str(robot)))
     cfg = given if given is not None else load_robot(robot_name)
-    planned = _planned(sc, terrain)
+    planned, knowledge = _planned(sc, terrain)
+    if knowledge == "perceived":  # the blind plan, its footholds moved onto the map as it grows
+        from gaitshift.control.perceived_driver import PerceivedDriver
+
+        perceived = PerceivedDriver(planned, plan(planned))
+        return sc, cfg, perceived, perceived.trajectory
     driver = driver_for(planned, robot_facts(planned), control_period)
     return sc, cfg, driver, driver.trajectory if driver is not None else plan(planned)
 
@@ -101,8 +107,9 @@ def _flat_where_it_stands(pieces: Any) -> tuple[Any, ...]:
     return (TerrainPiece(x=(-BLIND_REACH, BLIND_REACH), z=(z0, z0)),) if z0 > 0 else ()
 
 
-def _planned(sc: Any, terrain: str | None) -> Any:
-    """The scenario the planner plans (:func:`prepare`): ``sc`` itself, or without its terrain."""
+def _planned(sc: Any, terrain: str | None) -> tuple[Any, str]:
+    """The scenario the planner plans (:func:`prepare`): ``sc`` itself, or without its terrain (blind,
+    perceived); and what the planner is told."""
     from gaitshift.errors import InputError
     from gaitshift.scenario.sim_settings import TERRAIN_KNOWLEDGE
 
@@ -111,12 +118,14 @@ def _planned(sc: Any, terrain: str | None) -> Any:
     field = "--terrain" if terrain is not None else "sim.terrain"
     if knowledge not in TERRAIN_KNOWLEDGE:
         raise InputError(field, knowledge, "one of: " + ", ".join(TERRAIN_KNOWLEDGE))
+    if knowledge == "perceived" and sc.planner != "tvlip":
+        raise InputError(field, knowledge, f"known or blind for a {sc.planner} scenario (perceived: tvlip only)")
     if not getattr(sc, "terrain", ()):
-        return sc
-    if knowledge == "blind":
-        return sc.model_copy(update={"terrain": _flat_where_it_stands(sc.terrain)})
+        return sc, "known"
+    if knowledge in ("blind", "perceived"):
+        return sc.model_copy(update={"terrain": _flat_where_it_stands(sc.terrain)}), knowledge
     if sc.planner == "locomotion":
         raise InputError(
             field, knowledge, "blind for a live-command scenario on terrain (its generator plans on flat ground)"
         )
-    return sc
+    return sc, knowledge

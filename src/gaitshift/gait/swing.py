@@ -89,6 +89,9 @@ class EdgeClearance:
     terrain: Terrain
     sole_length: float
     margin: float
+    #: leave out the breaks under the lift-off and touchdown soles, lengthened by ``margin`` (a believed terrain whose
+    #: edges moved by a cell after the footholds were chosen: the soles stand where they stand)
+    skip_under_soles: bool = False
 
     def window(self, start: FloatArray, end: FloatArray, clearance: float) -> tuple[float, float]:
         """(a, b) of the swing from ``start`` to ``end`` (3,) m with apex ``clearance`` m above the
@@ -101,26 +104,32 @@ class EdgeClearance:
         lo, hi = sorted((float(start[0]), float(end[0])))
         b = self.terrain.breaks()
         b = b[(b > lo - half) & (b < hi + half)]
+        if self.skip_under_soles:
+            b = b[(np.abs(b - lo) >= half) & (np.abs(b - hi) >= half)]
         if len(b) == 0:
             return 0.0, 1.0
         top = np.maximum(self.terrain.height(b - 1e-9), self.terrain.height(b)) + self.margin  # (nb,)
         u = np.linspace(0.0, 1.0, WINDOW_SAMPLES)
         z = swing_path(start, end, clearance, u)[:, 2]  # the height does not depend on the window
+        below = z < top.max()  # only where the sole is below a break's top can it touch one
+        if not below.any():
+            return 0.0, 1.0
+        u, z = u[below], z[below]
         g = np.arange(0.0, WINDOW_MAX + 1e-9, WINDOW_STEP)
-        a, e = np.meshgrid(g, g, indexing="ij")  # delay, advance
-        s = min_jerk((u[None, None, :] - a[..., None]) / (1.0 - e - a)[..., None])
-        x = float(start[0]) + (float(end[0]) - float(start[0])) * s  # (na, ne, n)
-        over = np.abs(x[..., None] - b) < half  # (na, ne, n, nb): a break under the sole
-        low = over & (z[:, None] < top)
-        ok = ~low.any(axis=(2, 3))
-        if not ok.any():
-            raise ValueError(
-                f"a swing from x = {lo:.3f} to {hi:.3f} m cannot keep {self.margin} m above the edges at x = "
-                f"{np.round(b, 3).tolist()} (raise swing_height)"
-            )
-        cost = np.where(ok, a + e, np.inf)
-        i, j = np.unravel_index(int(np.argmin(cost)), cost.shape)
-        return float(g[i]), float(1.0 - g[j])
+        x0, dx, n = float(start[0]), float(end[0]) - float(start[0]), len(g)
+        for level in range(2 * n - 1):  # delay + advance in grid steps: the cheapest windows first
+            i = np.arange(max(0, level - n + 1), min(level, n - 1) + 1)
+            a, e = g[i], g[level - i]  # delay, advance
+            x = x0 + dx * min_jerk((u[None, :] - a[:, None]) / (1.0 - e - a)[:, None])  # (m, n)
+            over = np.abs(x[..., None] - b) < half  # (m, n, nb): a break under the sole
+            ok = ~(over & (z[:, None] < top)).any(axis=(1, 2))
+            if ok.any():  # the least a + e; among equal ones the least delay
+                k = int(np.argmin(np.where(ok, a + e, np.inf)))
+                return float(a[k]), float(1.0 - e[k])
+        raise ValueError(
+            f"a swing from x = {lo:.3f} to {hi:.3f} m cannot keep {self.margin} m above the edges at x = "
+            f"{np.round(b, 3).tolist()} (raise swing_height)"
+        )
 
 
 def foot_yaws(contact: BoolArray, foot_pos: FloatArray, footsteps: FloatArray, side_of: Int8Array) -> FloatArray:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -87,15 +88,20 @@ class Terrain:
 
     def breaks(self) -> FloatArray:
         """The x of every break (height or slope changes there), sorted, m."""
-        xs = sorted({q.x0 for q in self.pieces} | {q.x1 for q in self.pieces})
+        return self._breaks.copy()
+
+    @cached_property
+    def _breaks(self) -> FloatArray:
+        xs = np.unique(np.array([v for q in self.pieces for v in (q.x0, q.x1)], float))
         eps = 1e-9
-        out = [
-            x
-            for x in xs
-            if abs(float(self.height(x - eps)) - float(self.height(x))) > 1e-7
-            or abs(float(self.slope(x - eps)) - float(self.slope(x))) > 1e-7
-        ]
-        return np.array(out, float)
+        h0, s0 = self._piece_at(xs - eps)
+        h1, s1 = self._piece_at(xs)
+        return np.asarray(xs[(np.abs(h0 - h1) > 1e-7) | (np.abs(s0 - s1) > 1e-7)], float)
+
+    def steps(self) -> FloatArray:
+        """The x of every break where the height jumps (a stair or step edge, not a ramp's kink), m."""
+        b = self._breaks
+        return np.asarray(b[np.abs(self.height(b - 1e-9) - self.height(b)) > 1e-7], float)
 
     def sole_fits(self, x: float, yaw: float, length: float, width: float) -> float | None:
         """None if a sole (centre x m, yaw rad, ``length`` x ``width`` m) lies between two breaks;

@@ -9,7 +9,8 @@ camera, :class:`gaitshift.sim.log.PerceptionLog`): the map as the run ended (``m
   :data:`gaitshift.control.perception.EDGE_STEP` m away, :func:`gaitshift.control.perception.step_edges`)
   in grey, and the true sole centres where each sole stood;
 * side view: along x, the map's cells within :data:`BAND` m of the path's centre line (dots) and the
-  true soles' heights while they stood (the ground they stood on).
+  true soles' heights while they stood (the ground they stood on);
+* in both, the plan's footholds when given (with ``--terrain perceived``: the ones chosen on the map).
 """
 
 from __future__ import annotations
@@ -32,8 +33,10 @@ __all__ = ["BAND", "perception_figure"]
 BAND = 0.15
 
 
-def perception_figure(a: dict[str, Any], path: str | Path, title: str = "") -> Path:
-    """Draw the map of the run's arrays ``a`` (module docstring) into ``path`` (PNG)."""
+def perception_figure(a: dict[str, Any], path: str | Path, title: str = "", footholds: Any = None) -> Path:
+    """Draw the map of the run's arrays ``a`` (module docstring) into ``path`` (PNG), with the plan's
+    ``footholds`` (M, >= 3: x, y, z m; the plan as it ended: with ``--terrain perceived``, chosen on the map)
+    as crosses when given."""
     h, seen = np.asarray(a["map_heights"]), np.asarray(a["map_seen"], dtype=bool)
     r, corner = float(a["map_resolution"]), np.asarray(a["map_corner"], dtype=float)
     n = len(h)
@@ -48,6 +51,9 @@ def perception_figure(a: dict[str, Any], path: str | Path, title: str = "") -> P
     for s, colour in ((0, "tab:red"), (1, "tab:blue")):
         p = feet[stood[:, s], s]
         top.plot(p[:, 0], p[:, 1], ".", ms=2, color=colour, label=("left" if s == 0 else "right") + " sole (truth)")
+    plan = None if footholds is None else np.asarray(footholds, dtype=float)
+    if plan is not None:
+        top.plot(plan[:, 0], plan[:, 1], "x", ms=6, color="white", mec="black", label="planned footholds")
     top.set_aspect("equal")
     top.set_xlabel("x (m)")
     top.set_ylabel("y (m)")
@@ -63,6 +69,8 @@ def perception_figure(a: dict[str, Any], path: str | Path, title: str = "") -> P
     for s in (0, 1):
         p = feet[stood[:, s], s]
         side.plot(p[:, 0], p[:, 2], "k.", ms=2, label="soles standing (truth)" if s == 0 else None)
+    if plan is not None:
+        side.plot(plan[:, 0], plan[:, 2], "x", ms=6, color="tab:orange", label="planned footholds")
     side.set_xlabel("x (m)")
     side.set_ylabel("z (m)")
     side.legend(fontsize=7)

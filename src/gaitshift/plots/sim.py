@@ -129,6 +129,7 @@ def plot_all(result: Any, traj: Any, folder: str | Path) -> list[Path]:
         from gaitshift.plots.perception import perception_figure
 
         per = result.metrics.get("perception", {}) if isinstance(result.metrics, dict) else {}
-        title = ", ".join(f"{k} {v:.4g}" for k, v in per.items())
-        out.append(perception_figure(result.arrays, folder / "sim_perception.png", f"elevation map: {title}"))
+        title = ", ".join(f"{k} {v:.4g}" for k, v in per.items() if isinstance(v, int | float))
+        path = folder / "sim_perception.png"
+        out.append(perception_figure(result.arrays, path, f"elevation map: {title}", traj.footsteps))
     return out

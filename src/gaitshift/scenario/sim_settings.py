@@ -33,9 +33,9 @@ STATE_SOURCES = ("estimated", "oracle")
 #: where the controller's contact sensing comes from: the soles' force sensors, or the motors' torques
 CONTACT_SOURCES = ("force", "torque")
 #: what the planner is told of the scenario's ``terrain:`` (the world is always built on it): ``known``
-#: (the planner plans on it), ``blind`` (the planner plans on flat ground); ``perceived`` (footholds from
-#: the controller's elevation map) is issue 29's next step and not accepted yet
-TERRAIN_KNOWLEDGE = ("known", "blind")
+#: (the planner plans on it), ``blind`` (the planner plans on flat ground), ``perceived`` (the blind plan's
+#: footholds moved onto the controller's elevation map as it grows; TV-LIPM scenarios)
+TERRAIN_KNOWLEDGE = ("known", "blind", "perceived")
 #: sensor noise profiles (``none``: exact readings)
 NOISE_PROFILES = ("none", "typical", "rl-peer")
 #: friction coefficients (floor, assumed), inclusive
@@ -108,7 +108,7 @@ class SimSettings(StrictModel):
     pushes: list[PushSettings] | None = None
     bumps: list[BumpSettings] | None = None
     contact: Literal["force", "torque"] | None = None
-    terrain: Literal["known", "blind"] | None = None
+    terrain: Literal["known", "blind", "perceived"] | None = None
 
     def given(self) -> dict[str, Any]:
         """The keys set in the scenario, as ``SimOptions`` keyword arguments (``pushes`` and ``bumps``

@@ -245,7 +245,11 @@ class _Run:
         result.metrics = summarize(result, self.ctrl.trajectory, self.world.plant.torque_limit)
         result.metrics.update(sensing_metrics(result.arrays, self.ctrl.source))
         frames = self.ctrl.perceiver.frames if self.ctrl.perceiver is not None else 0
-        result.metrics.update(perception_metrics(result.arrays, frames))
+        sole = float(self.world.plant.robot.sole_size[0])
+        result.metrics.update(perception_metrics(result.arrays, frames, self.world.ground, sole))
+        stopped = getattr(self.ctrl.driver, "stopped", None)  # the perceived driver's stop before an edge
+        if stopped is not None and "perception" in result.metrics:
+            result.metrics["perception"]["stopped"] = stopped
         return result
 
     def _meta(self, n_done: int, wall: float) -> dict[str, Any]:

@@ -12,7 +12,12 @@ the ground, so its height ``z`` is the ground's there; the map's height ``h`` at
   foothold chosen from the map meets (the sole-to-base kinematics comes from the joint encoders);
 * ``map_coverage``: the share of stance ticks whose cell the map had seen (a blind spot under the
   feet lowers it: the camera looks ahead, and a cell stays known once seen);
-* ``frames``: depth frames fused.
+* ``frames``: depth frames fused;
+* ``edge_distance_min``, ``edge_distance_median``: m, at every stance (the middle tick of each contact
+  of at least :data:`MIN_STANCE` s: a toe scuffing an edge in a swing is no stance), from the true
+  sole to the nearest step edge of the true terrain along x: the distance from the sole centre less
+  half the sole length (negative: the sole lies across the edge). Only with a terrain that has step
+  edges.
 """
 
 from __future__ import annotations
@@ -21,11 +26,19 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["perception_metrics"]
+from gaitshift.models.terrain import Terrain
+
+__all__ = ["MIN_STANCE", "edge_distances", "perception_metrics", "stances"]
+
+#: s, the shortest contact counted as a stance by the edge distance
+MIN_STANCE = 0.05
 
 
-def perception_metrics(a: dict[str, np.ndarray], frames: int) -> dict[str, Any]:
-    """``{"perception": {...}}`` of a run's arrays (module docstring); ``{}`` without a map."""
+def perception_metrics(
+    a: dict[str, np.ndarray], frames: int, ground: Terrain | None = None, sole_length: float = 0.0
+) -> dict[str, Any]:
+    """``{"perception": {...}}`` of a run's arrays (module docstring) on the true ``ground`` with soles
+    ``sole_length`` m long; ``{}`` without a map."""
     if "map_height" not in a:
         return {}
     stance = a["contact"].astype(bool)
@@ -40,4 +53,30 @@ def perception_metrics(a: dict[str, np.ndarray], frames: int) -> dict[str, Any]:
         if len(err):
             out[f"{name}_median"] = float(np.median(err))
             out[f"{name}_p95"] = float(np.percentile(err, 95))
+    mid = stances(stance, float(np.median(np.diff(a["t"]))) if len(a.get("t", ())) > 1 else 0.002)
+    out.update(edge_distances(mid, a["foot_pos"][:, :, 0], ground, sole_length))
     return {"perception": out}
+
+
+def stances(contact: np.ndarray, dt: float) -> np.ndarray:
+    """(N, 2) bool: the middle tick of every contact run of ``contact`` (N, 2) lasting at least
+    :data:`MIN_STANCE` s at ``dt`` s per tick."""
+    out = np.zeros_like(contact, dtype=bool)
+    for s in range(contact.shape[1]):
+        c = np.r_[False, contact[:, s].astype(bool), False]
+        start, end = np.flatnonzero(c[1:] & ~c[:-1]), np.flatnonzero(~c[1:] & c[:-1])
+        long = (end - start) * dt >= MIN_STANCE
+        out[(start[long] + end[long] - 1) // 2, s] = True
+    return out
+
+
+def edge_distances(at: np.ndarray, x: np.ndarray, ground: Terrain | None, sole_length: float) -> dict[str, float]:
+    """``edge_distance_min`` and ``_median`` (module docstring) of the soles at the ticks ``at`` (N, 2)
+    bool with true sole centres ``x`` (N, 2) m; ``{}`` without step edges or such ticks."""
+    if ground is None:
+        return {}
+    edges = ground.steps()
+    if not len(edges) or not at.any():
+        return {}
+    d = np.min(np.abs(x[at][:, None] - edges[None, :]), axis=1) - 0.5 * sole_length
+    return {"edge_distance_min": float(d.min()), "edge_distance_median": float(np.median(d))}

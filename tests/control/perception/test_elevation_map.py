@@ -83,7 +83,7 @@ def test_the_perceiver_places_camera_points_with_the_camera_pose_of_the_controll
     r = (0.07 - o[2]) / world_dir[:, 2]
     ok = (r > 0) & (r < cam.range[1])
     per = Perceiver(model, cam, MapSettings(size=4.0, resolution=R))
-    per.frame(0.0, r[ok, None] * rays[ok], d, 0.0)
+    per.frame(0.0, r[ok, None] * rays[ok], d)
     hits = o + r[ok, None] * world_dir[ok]
     h, p = per.map.lookup(hits[:, :2])
     seen = np.isfinite(p)

@@ -39,7 +39,7 @@ from gaitshift.scenario.terrain import terrain_of
 from gaitshift.scenario.tvlip import TvlipScenario
 from gaitshift.trajectory.contract import LEFT, RIGHT, Trajectory
 
-__all__ = ["ZMP_TOL", "plan_scenario", "plan_sequence", "sequence_for", "solve_boundaries"]
+__all__ = ["ZMP_TOL", "plan_scenario", "plan_sequence", "sequence_for", "solve_boundaries", "trajectory_of"]
 
 ZMP_TOL = 1e-3  # a plan whose ZMP leaves eq. (7)'s box by more than this is infeasible, m
 
@@ -185,6 +185,14 @@ def plan_scenario(sc: TvlipScenario) -> Trajectory:
         "edge_clearance": sc.edge_clearance,
         "scenario": json.loads(sc.model_dump_json()),
     }
+    return trajectory_of(seq, bp, data, meta, sc.dt)
+
+
+def trajectory_of(
+    seq: GaitSequence, bp: BoundaryPlan, data: dict[str, FloatArray], meta: dict[str, Any], dt: float
+) -> Trajectory:
+    """The :class:`Trajectory` of a solved plan: the samples ``data`` of :func:`plan_sequence` (step
+    ``dt`` s), the boundary plan in ``extras``, foot yaws, headings and each sample's gait."""
     extras: dict[str, np.ndarray] = {
         "boundary_t": seq.boundary_times,
         "boundary_com_pos": bp.p,
@@ -196,7 +204,7 @@ def plan_scenario(sc: TvlipScenario) -> Trajectory:
     fs, side = seq.footstep_array, seq.footstep_side
     foot_yaw = foot_yaws(data["contact"].astype(bool), data["foot_pos"], fs, side)
     tb = seq.boundary_times
-    phase_of = np.clip(np.searchsorted(tb, data["t"] + 1e-9 * sc.dt, side="right") - 1, 0, len(seq.phases) - 1)
+    phase_of = np.clip(np.searchsorted(tb, data["t"] + 1e-9 * dt, side="right") - 1, 0, len(seq.phases) - 1)
     fields: dict[str, Any] = dict(data)
     return Trajectory(
         **fields,

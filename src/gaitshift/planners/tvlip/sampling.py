@@ -219,10 +219,13 @@ class SwingTable:
     inv_w: FloatArray
 
 
-def swing_table(seq: GaitSequence, swing_height: float, edges: EdgeClearance | None = None) -> SwingTable:
+def swing_table(
+    seq: GaitSequence, swing_height: float, edges: EdgeClearance | None = None, kept: BoolArray | None = None
+) -> SwingTable:
     """The swings of both feet per phase: from the footstep before (last contact) to the footstep after
     (next contact), the apex ``swing_height`` above the higher of the two (m); over terrain (``edges``)
-    the horizontal blend runs in the window that clears its edges."""
+    the horizontal blend runs in the window that clears its edges, except in the swings ``kept`` ((K, 2)
+    bool per phase and side: a re-plan keeps their old samples)."""
     on = seq.on  # (K, 2)
     fs = seq.footstep_array
     tb = seq.boundary_times
@@ -245,7 +248,7 @@ def swing_table(seq: GaitSequence, swing_height: float, edges: EdgeClearance | N
     inv_dur = np.divide(1.0, t_land - t_lift, out=np.zeros((K, 2)), where=sw)
     w0, inv_w = np.zeros((K, 2)), np.ones((K, 2))
     if edges is not None:
-        for k, side in zip(*np.nonzero(sw), strict=True):
+        for k, side in zip(*np.nonzero(sw if kept is None else sw & ~kept), strict=True):
             a, b = edges.window(start[k, side], end[k, side], swing_height)
             w0[k, side], inv_w[k, side] = a, 1.0 / (b - a)
     return SwingTable(start, sw, t_lift, inv_dur, end[..., :2] - start[..., :2], a36, w0, inv_w)
@@ -257,6 +260,7 @@ def feet(
     swing_height: float,
     out: FloatArray | None = None,
     edges: EdgeClearance | None = None,
+    kept: BoolArray | None = None,
 ) -> FloatArray:
     """Sole centres (N, 2, 3): fixed on their footstep in contact, swing paths in between (minimum-jerk
     horizontal blend and the height sextic through the apex ``swing_height`` above the higher sole,
@@ -264,7 +268,7 @@ def feet(
 
     One formula for all samples: a sole in contact is a swing of zero length (u = 0, no step, no
     sextic), so its position is its footstep exactly. Over terrain, see :func:`swing_table`."""
-    tab = swing_table(seq, swing_height, edges)
+    tab = swing_table(seq, swing_height, edges, kept)
     n = len(ps.s)
     if out is None:
         out = np.empty((n, 2, 3))
@@ -302,10 +306,16 @@ def feet(
 
 
 def sample(
-    seq: GaitSequence, bp: BoundaryPlan, g: float, dt: float, swing_height: float, edges: EdgeClearance | None = None
+    seq: GaitSequence,
+    bp: BoundaryPlan,
+    g: float,
+    dt: float,
+    swing_height: float,
+    edges: EdgeClearance | None = None,
+    kept: BoolArray | None = None,
 ) -> dict[str, FloatArray]:
     """Closed-form sampling of CoM, ZMP and feet at a fixed step ``dt`` (arrays of the contract); the
-    swings clear the terrain's edges given by ``edges``.
+    swings clear the terrain's edges given by ``edges`` (except those ``kept``, :func:`swing_table`).
 
     The float arrays are C-contiguous views into one block (one allocation instead of ten)."""
     ps = phase_samples(seq.boundary_times, dt)
@@ -319,7 +329,7 @@ def sample(
     sup = kinds != FLIGHT
     com_samples(phase_table(seq, bp, g), ps, out=(pos, vel, acc, zmp))
     foot_pos = views[4].reshape(n, 2, 3)
-    feet(seq, ps, swing_height, out=foot_pos, edges=edges)
+    feet(seq, ps, swing_height, out=foot_pos, edges=edges, kept=kept)
     stiffness = views[5]
     stiffness[:] = np.repeat(np.where(sup, seq.stiffness, np.nan), counts)
     command = views[6].reshape(n, 2)
