@@ -135,7 +135,7 @@ class WebView:
         self._lock = threading.Lock()
         self._pending: list[tuple[str, tuple[float, float, float]]] = []
         self._next, self._wall0, self._frames, self._trail = 0.0, 0.0, 0, np.zeros((0, 3))
-        self._steps_key: tuple[int, float] = (-1, 0.0)
+        self._steps_key: int | None = None  # a hash of the footholds drawn
         self.update_wall: list[float] = []  # wall-clock s of each frame update (measurements)
         self.elevation: Any = None  # the controller's elevation map (attach), drawn every MAP_EVERY frames
         self.status = self.server.gui.add_markdown("waiting for the simulation ...")
@@ -245,8 +245,8 @@ class WebView:
         i = min(round(t / traj.dt), len(traj) - 1)
         with self.server.atomic():
             self.scene.update(d)
-            key = (len(traj.footsteps), float(traj.footsteps[-1, 0]))
-            if key != self._steps_key:  # a new foothold was planned
+            key = hash(np.round(traj.footsteps, 3).tobytes())  # any foothold added or moved (perceived terrain)
+            if key != self._steps_key:  # a foothold was planned or moved
                 self._steps_key = key
                 segs, cols = _sole_outlines(traj.footsteps, traj.footstep_side)
                 self.server.scene.add_line_segments(f"{self.scene.root}/footsteps", segs, cols, thickness=0.012)
