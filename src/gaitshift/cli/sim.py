@@ -66,9 +66,8 @@ def simulate_cmd(
     terrain: str | None = typer.Option(
         None,
         "--terrain",
-        help="What the planner is told of the scenario's terrain: known (default), blind (it plans on flat"
-        " ground) or perceived (footholds from the robot's elevation map; TV-LIPM scenarios). The world"
-        " keeps the terrain.",
+        help="What the planner is told of the terrain (the world keeps it): known (default), blind (flat"
+        " ground) or perceived (footholds from the robot's elevation map; TV-LIPM scenarios).",
     ),
     rerun: Path | None = typer.Option(None, "--rerun", help="Also write a Rerun recording (.rrd; needs rerun-sdk)."),
     video_size: str | None = typer.Option(None, "--video-size", help="Video size WIDTHxHEIGHT, pixels (1280x720)."),
