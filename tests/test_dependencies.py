@@ -34,7 +34,7 @@ def declared(project: dict, extra: str = "all") -> list[Requirement]:
         for text in extras.get(name, []):
             req = Requirement(text)
             if _normal(req.name) == _normal(project["name"]):
-                todo.extend(req.extras)
+                todo.extend(sorted(req.extras, reverse=True))  # a set: the same order in every process (xdist)
             else:
                 out.append(req)
     return out

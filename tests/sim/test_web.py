@@ -74,21 +74,23 @@ def test_browser_slider_changes_the_command_of_the_running_simulation(tmp_path):
             url = proc.wait_line(r"web view: (http://\S+)", 60).group(1)
             page = browser.new_page(viewport={"width": 800, "height": 600})
             page.goto(url)
-            page.get_by_text("commanded: vx = +0.00").wait_for(timeout=45_000)
+            page.get_by_text("commanded: vx = +0.00").wait_for(timeout=90_000)
             slider = page.get_by_role("slider").first  # vx
             box = slider.locator("xpath=..").bounding_box()
             assert box is not None
             lo, hi = float(slider.get_attribute("aria-valuemin")), float(slider.get_attribute("aria-valuemax"))
             page.mouse.click(box["x"] + box["width"] * (0.3 - lo) / (hi - lo), box["y"] + box["height"] / 2)
-            page.wait_for_function("s => Number(s.getAttribute('aria-valuenow')) > 0.1", arg=slider.element_handle())
+            page.wait_for_function(
+                "s => Number(s.getAttribute('aria-valuenow')) > 0.1", arg=slider.element_handle(), timeout=90_000
+            )
             vx = float(slider.get_attribute("aria-valuenow"))
             assert 0.1 < vx < 0.6, vx
             # the simulation side: its status line, then the plan it tracks (shown on the page)
-            proc.wait_line(r"web\s+t=\s*\S+ s\s+command=\(" + re.escape(f"{vx:+.2f}, +0.00 m/s"), 30)
-            page.get_by_text(f"commanded: vx = {vx:+.2f} m/s").wait_for(timeout=30_000)
+            proc.wait_line(r"web\s+t=\s*\S+ s\s+command=\(" + re.escape(f"{vx:+.2f}, +0.00 m/s"), 90)
+            page.get_by_text(f"commanded: vx = {vx:+.2f} m/s").wait_for(timeout=90_000)
             page.screenshot(path=str(tmp_path / "web_view.png"))
             proc.wait_line(r"walk\s+speed=\(\+0\.[1-9]", 30)  # the measured speed follows
-            page.get_by_role("button", name="End run").click()
+            page.get_by_role("button", name="End run").click(timeout=120_000)  # a starved browser is slow, not wrong
             browser.close()
         assert proc.p.wait(timeout=60) == 0, "".join(proc.err)[-2000:]
     finally:

@@ -10,6 +10,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from gaitshift.common.hull import hull_margins
 from gaitshift.trajectory.contract import FLIGHT, Trajectory
 
 
@@ -41,8 +42,6 @@ def zmp_support_margin(traj: Trajectory) -> np.ndarray:
     """Signed distance of the ZMP inside the support polygon, m, shape (K,) over support samples
     (positive inside). The polygon is the contacting sole (SS) or the convex hull of both (DS), each
     sole rotated by its yaw (``foot_yaw``)."""
-    from scipy.spatial import ConvexHull
-
     foot_size = traj.meta["foot_size"]
     mask = traj.phase != FLIGHT
     out = np.empty(int(mask.sum()))
@@ -59,8 +58,7 @@ def zmp_support_margin(traj: Trajectory) -> np.ndarray:
         rows = np.flatnonzero(inverse == u)
         i = rows[0]
         soles = [pose[i, s] for s in (0, 1) if contact[i, s]]
-        eq = ConvexHull(np.vstack([sole_corners(f, foot_size) for f in soles])).equations  # a.x + b <= 0 inside
-        out[rows] = -np.max(zmp[rows] @ eq[:, :2].T + eq[:, 2], axis=1)
+        out[rows] = hull_margins(np.vstack([sole_corners(f, foot_size) for f in soles]), zmp[rows])
     return out
 
 

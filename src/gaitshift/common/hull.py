@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["convex_hull_xy", "hull_margin"]
+__all__ = ["convex_hull_xy", "hull_margin", "hull_margins"]
 
 
 def convex_hull_xy(points: np.ndarray) -> np.ndarray:
@@ -38,9 +38,15 @@ def convex_hull_xy(points: np.ndarray) -> np.ndarray:
 def hull_margin(points: np.ndarray, p: np.ndarray) -> float:
     """min over the edges of the convex hull of ``points`` (M, 2) of the inward distance of ``p`` (2,)
     from the edge's line, m: >= 0 inside (the distance to the nearest edge), < 0 outside."""
+    return float(hull_margins(points, np.reshape(np.asarray(p, float), (1, 2)))[0])
+
+
+def hull_margins(points: np.ndarray, ps: np.ndarray) -> np.ndarray:
+    """:func:`hull_margin` of every row of ``ps`` (n, 2) against the one hull of ``points`` (M, 2), m, shape (n,)."""
     pts = np.asarray(points, float).reshape(-1, 2)
     hull = convex_hull_xy(np.column_stack([pts, np.zeros(len(pts))]))[:, :2]
     a, b = hull, np.roll(hull, -1, axis=0)
     edge = b - a
     normal = np.stack([-edge[:, 1], edge[:, 0]], axis=1) / np.linalg.norm(edge, axis=1, keepdims=True)  # inward
-    return float(np.min(np.sum(normal * (np.asarray(p, float) - a), axis=1)))
+    rel = np.asarray(ps, float).reshape(-1, 1, 2) - a  # (n, k, 2): each point from each edge's start
+    return np.asarray(np.min(np.sum(normal * rel, axis=2), axis=1))
