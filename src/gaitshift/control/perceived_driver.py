@@ -84,6 +84,7 @@ class PerceivedDriver:
     def __init__(self, blind: Any, plan: Trajectory, settings: PerceivedSettings | None = None) -> None:
         self.sc, self.settings = blind, settings or PerceivedSettings()
         self.seq, _ = sequence_for(blind)
+        self.lift = lift_phase(self.seq)  # the phases never change, so neither does when each swing starts
         ex = plan.extras
         self.bp = BoundaryPlan(ex["boundary_com_pos"], ex["boundary_com_vel"], ex["boundary_zmp"], 0, 0.0, 0)
         self.nominal = self.seq.footsteps
@@ -118,28 +119,25 @@ class PerceivedDriver:
             return None
         k = int(np.searchsorted(tb, t + 1e-9, side="right") - 1)
         self.next = k + 1
-        lift = lift_phase(self.seq)
         belief = self._belief(k)
         if belief is None:
             return None
-        feet, stopped = self._footholds(np.flatnonzero(lift >= k), lift, k, belief)
-        free = lift >= k
+        free = self.lift >= k
+        feet, stopped = self._footholds(np.flatnonzero(free), k, belief)
         moved = any(not _same(f, g) for f, g, c in zip(feet, self.seq.footsteps, free, strict=True) if c)
         if not moved and _same_edges(belief.terrain, self.belief):
             return None
         self.stopped = stopped
         return self._replan(k, feet, belief.terrain)
 
-    def _footholds(
-        self, free: np.ndarray, lift: np.ndarray, k: int, belief: Belief
-    ) -> tuple[list[Footstep], str | None]:
+    def _footholds(self, free: np.ndarray, k: int, belief: Belief) -> tuple[list[Footstep], str | None]:
         """The footsteps with the ``free`` ones (indices, in order) on the believed terrain, and why the
         walk stops (None: it does not; module docstring). Only a foothold whose swing starts within
         :data:`SIGHT_PHASES` phases must lie on seen ground: the later ones will be placed again."""
         feet = list(self.seq.footsteps)
         for n, j in enumerate(free):
             f, p = self.nominal[j], feet[j - 1]
-            seen_to = belief.seen[1] if lift[j] <= k + SIGHT_PHASES else None
+            seen_to = belief.seen[1] if self.lift[j] <= k + SIGHT_PHASES else None
             x = place(belief.terrain, seen_to, f.x, f.yaw, (p.x, p.z), self.rules, belief.gaps)
             if x is None:
                 why = (

@@ -275,8 +275,7 @@ class ControllerState:
 
     def _torque_forces(self, tau_est: np.ndarray) -> np.ndarray:
         """Eq. (2) of :mod:`~gaitshift.control.estimation.torque_contact` at the centre of the last
-        ``2 n + 1`` ticks (:class:`~gaitshift.control.estimation.torque_contact.AccelerationWindow`).
-        """
+        ``2 n + 1`` ticks (:class:`~gaitshift.control.estimation.torque_contact.AccelerationWindow`)."""
         window, contact = self._window, self.torque_contact
         assert window is not None and contact is not None
         window.push(self.cdata.qpos, self.cdata.qvel, tau_est)

@@ -35,10 +35,14 @@ MIN_STANCE = 0.05
 
 
 def perception_metrics(
-    a: dict[str, np.ndarray], frames: int, ground: Terrain | None = None, sole_length: float = 0.0
+    a: dict[str, np.ndarray],
+    frames: int,
+    ground: Terrain | None = None,
+    sole_length: float = 0.0,
+    dt: float | None = None,
 ) -> dict[str, Any]:
     """``{"perception": {...}}`` of a run's arrays (module docstring) on the true ``ground`` with soles
-    ``sole_length`` m long; ``{}`` without a map."""
+    ``sole_length`` m long, ticks ``dt`` s apart (None: no edge distance); ``{}`` without a map."""
     if "map_height" not in a:
         return {}
     stance = a["contact"].astype(bool)
@@ -53,8 +57,8 @@ def perception_metrics(
         if len(err):
             out[f"{name}_median"] = float(np.median(err))
             out[f"{name}_p95"] = float(np.percentile(err, 95))
-    mid = stances(stance, float(np.median(np.diff(a["t"]))) if len(a.get("t", ())) > 1 else 0.002)
-    out.update(edge_distances(mid, a["foot_pos"][:, :, 0], ground, sole_length))
+    if dt is not None:  # the edge distance, at each stance of ``dt`` s ticks
+        out.update(edge_distances(stances(stance, dt), a["foot_pos"][:, :, 0], ground, sole_length))
     return {"perception": out}
 
 

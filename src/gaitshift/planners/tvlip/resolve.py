@@ -25,7 +25,6 @@ sampled by the usual closed forms.
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Sequence
 
 import numpy as np
@@ -47,14 +46,12 @@ def lift_phase(seq: GaitSequence) -> np.ndarray:
     m = len(seq.footsteps)
     out = np.full(m, -1, dtype=np.int64)
     for side in (LEFT, RIGHT):
-        col = on[:, side]
-        first = np.full(m, len(col), dtype=np.int64)  # first phase each footstep is stood on
-        idx = np.flatnonzero(col >= 0)
-        np.minimum.at(first, col[idx], idx)
-        mine = np.unique(col[idx])
-        for prev, nxt in itertools.pairwise(mine):
-            last_on_prev = idx[col[idx] == prev].max()
-            out[nxt] = last_on_prev + 1  # the phase after the last one on the previous footstep
+        idx = np.flatnonzero(on[:, side] >= 0)  # the phases this foot stands in
+        steps = on[idx, side]
+        last = np.full(m, -1, dtype=np.int64)  # the last phase each footstep is stood on
+        np.maximum.at(last, steps, idx)
+        mine = np.unique(steps)  # this foot's footsteps, in order
+        out[mine[1:]] = last[mine[:-1]] + 1  # the phase after the last one on the previous footstep
     return out
 
 
