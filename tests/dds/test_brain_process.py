@@ -91,6 +91,43 @@ def test_the_brain_stands_the_robot_up_walks_the_plan_and_ends_in_damping(tmp_pa
     assert r["est_velocity_rmse"] < 0.05 and r["est_tilt_rmse"] < 0.05 and abs(r["est_yaw_drift"]) < 0.02
 
 
+def test_a_lossy_late_link_still_walks_the_plan(tmp_path):
+    """The robot's link loses 5 % of the states, corrupts 1 % and delays each by 4 +- 1 ms: the brain bridges
+    the missing ticks and walks the plan's distance within 5 cm without a fall; every corrupted state is one
+    the brain dropped for its CRC, and the delays are the asked ones in ticks."""
+    domain = BASE_DOMAIN + 3
+    faults = ["--drop", "0.05", "--corrupt", "0.01", "--delay-ms", "4", "--jitter-ms", "1", "--seed", "2"]
+    (tmp_path / "tiny.yaml").write_text(TINY)
+    summary = str(tmp_path / "robot.json")
+    robot = gaitshift(
+        tmp_path, "robot", "dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--summary", summary, *faults
+    )
+    brain = gaitshift(
+        tmp_path,
+        "brain",
+        "dds",
+        "control",
+        str(tmp_path / "tiny.yaml"),
+        "--domain",
+        str(domain),
+        "--json",
+        *BRAIN_FLAGS,
+    )
+    try:
+        finish(*brain, timeout=240.0)
+    finally:
+        robot[0].send_signal(signal.SIGTERM)
+        finish(*robot)
+    assert brain[0].returncode == 0, (tmp_path / "brain.err").read_text()
+    s = json.loads((tmp_path / "brain.out").read_text())
+    r = json.loads((tmp_path / "robot.json").read_text())
+    assert not r["fell"], r
+    assert r["distance"] == pytest.approx(s["planned_distance"], abs=0.05)
+    assert r["link_dropped"] > 0.02 * r["ticks"] and r["link_corrupted"] > 0
+    assert s["states_dropped"] == r["link_corrupted"]
+    assert 2.0 <= r["link_delay_ticks_mean"] <= 3.0 and r["link_delay_ticks_max"] == 3
+
+
 def test_the_robot_killed_mid_run_sends_the_brain_to_damping_and_exit_1(tmp_path):
     """The robot process killed during the stand-up: the brain's next state is stale, it writes damping
     and exits 1 with one line naming the stale state."""

@@ -68,7 +68,8 @@ def test_a_perfect_estimate_scores_zero_and_a_yaw_offset_only_drift():
         yaw = 0.01 * k
         c, s_ = math.cos(yaw), math.sin(yaw)
         turned = np.array([c * vel[0] - s_ * vel[1], s_ * vel[0] + c * vel[1], vel[2]])
-        score.add(estimate_message(k, 0.0, "locomotion", record(pos, quat_zyx(yaw), turned, [True, False])))
+        msg = estimate_message(k, 0.0, "locomotion", record(pos, quat_zyx(yaw), turned, [True, False]))
+        score.add(Estimate_.deserialize(msg.serialize()))  # off the wire the flags are bytes: counted per foot
     s = score.summary()
     assert s.est_velocity_rmse == pytest.approx(0.0, abs=1e-12)
     assert s.est_yaw_drift == pytest.approx(0.09) and s.est_contact_accuracy == 0.5

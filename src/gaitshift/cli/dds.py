@@ -48,11 +48,18 @@ def dds_robot_cmd(
     damping_kd: float = typer.Option(2.0, "--damping-kd", help="Damping gain, N m s/rad (kp = 0)."),
     mode_machine: int = typer.Option(0, "--mode-machine", help="The hardware variant reported in LowState_."),
     noise: str = typer.Option("none", "--noise", help="Sensor noise profile: none, typical, rl-peer."),
+    drop: float = typer.Option(0.0, "--drop", help="Link fault: probability that a state is lost, [0, 0.5]."),
+    corrupt: float = typer.Option(0.0, "--corrupt", help="Link fault: probability of a state with a bad CRC."),
+    delay_ms: float = typer.Option(0.0, "--delay-ms", help="Link fault: ms added to every state (at 2 ms ticks)."),
+    jitter_ms: float = typer.Option(0.0, "--jitter-ms", help="Link fault: ms, uniform spread of the delay."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the link's faults."),
 ) -> None:
     """Run ROBOT in gaitshift's MuJoCo world behind the protocol: rt/lowstate out every control period,
-    rt/lowcmd in (bad CRCs dropped and counted), tau + kp (q_des - q) + kd (dq_des - dq) per motor."""
+    rt/lowcmd in (bad CRCs dropped and counted), tau + kp (q_des - q) + kd (dq_des - dq) per motor; with
+    --drop, --corrupt, --delay-ms, --jitter-ms the link to the brain loses, corrupts and delays states."""
     from gaitshift.common.atomic import atomic_path
     from gaitshift.common.jsonsafe import finite_json
+    from gaitshift.dds.link import LinkFaults
     from gaitshift.dds.robot import RobotOptions, run_robot
     from gaitshift.scenario.sim_settings import NOISE_PROFILES
 
@@ -61,6 +68,7 @@ def dds_robot_cmd(
     network_interface(iface)
     if noise not in NOISE_PROFILES:
         raise InputError("--noise", noise, "one of: " + ", ".join(NOISE_PROFILES))
+    faults = LinkFaults(drop, corrupt, delay_ms / 1e3, jitter_ms / 1e3, seed)
     opts = RobotOptions(
         robot=robot,
         domain=domain,
@@ -71,6 +79,7 @@ def dds_robot_cmd(
         damping_kd=damping_kd,
         mode_machine=mode_machine,
         noise=noise,
+        faults=faults,
     )
     mode = "lockstep" if lockstep else "real time"
     typer.echo(f"{robot} on DDS domain {domain} over {iface} ({mode}): rt/lowstate out, rt/lowcmd in", err=True)

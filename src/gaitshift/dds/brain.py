@@ -24,11 +24,13 @@ bytes as cyclonedds's (de)serialization, in a tenth of its time).
 Pacing: real time by default (tick ``k`` due at ``t0 + k period`` on the wall clock, the machine's and the
 controller's clock the wall clock; a tick that ends over a period after it was due is a missed deadline,
 and the ticks it overran are skipped); with ``lockstep`` one tick per new state (``LowState_.tick``
-changed), the clocks counting periods, and a state is stale when none came within ``stale`` s of the last
-command. A tick's duration runs from the wake-up (real time: the take and deserialization of the states
-included) or from the new state's arrival (lockstep) to the command written. The run ends
-``final_damping`` s of the machine's clock after it entered ``stop`` or ``fault``. A state's age is the time
-since a state of a new tick was last taken (the robot's clock is not compared with the brain's).
+changed), the clocks the robot's (the state's tick less the first state's, in periods: a state the link
+lost is a gap the controller's estimator bridges, :mod:`gaitshift.control.state`), and a state is stale
+when none came within ``stale`` s of the last command. A tick's duration runs from the wake-up (real time:
+the take and deserialization of the states included) or from the new state's arrival (lockstep) to the
+command written. The run ends ``final_damping`` s of the machine's clock after it entered ``stop`` or
+``fault``. A state's age is the time since a state of a new tick was last taken (the robot's clock is not
+compared with the brain's).
 Exit codes (:attr:`BrainSummary.exit_code`): 0 the plan ended (or SIGINT/SIGTERM) and the robot damps; 1 a
 fault, no state within ``state_timeout`` s, or a real robot that is not damping at start.
 """
@@ -114,6 +116,7 @@ class _Brain:
         self.state: Any = None  # the newest LowState_ (StateBytes) with a good CRC
         self.arrival = -math.inf  # perf_counter s when a state of a new tick last arrived
         self.handled = -1  # LowState_.tick of the last state ticked on
+        self.tick0 = 0  # LowState_.tick of the first state
         self.written = time.perf_counter()  # when the last command was written
         self.received = self.dropped = self.loco_ticks = 0
         self.last: MotorCommand = self.safety.damping
@@ -144,6 +147,7 @@ class _Brain:
             self.endpoint.wait(min(0.05, max(end - time.perf_counter(), 0.0)))
             self.take()
         self.written = time.perf_counter()  # the stale clock starts with the first state
+        self.tick0 = 0 if self.state is None else self.state.tick
         return self.state is not None
 
     def wait_lockstep(self) -> float:
@@ -239,12 +243,13 @@ def _loop(brain: _Brain, signals: StopSignals) -> None:
     """Tick until ``final_damping`` s of the machine's clock after it ended (module docstring)."""
     opts, period, safety = brain.opts, brain.period, brain.safety
     wall0 = time.perf_counter()
-    k = 0
+    k, t = 0, 0.0
     while True:
         if opts.lockstep:
             age = brain.wait_lockstep()
-            t, due = k * period, time.perf_counter()
-            start = due
+            # the robot's clock; without a new state (the robot silent) the machine's goes on by periods
+            t = (brain.state.tick - brain.tick0) % 2**32 * period if age == 0.0 else t + period
+            due = start = time.perf_counter()
         else:
             due = wall0 + k * period
             time.sleep(max(due - time.perf_counter(), 0.0))

@@ -5,7 +5,8 @@ Every control period ``dt`` (the physics step, 2 ms)::
 
     world.observe(k)                       the truth: the fall test, the pelvis position
     state = lowstate_from_frame(...)       the world's SensorFrame as a LowState_ (tick = k), the CRC set
-    endpoint.writer.write(state)           rt/lowstate
+    link.take(k, state)                    faults on the link: dropped, corrupted, delayed (link.py)
+    endpoint.writer.write(...)             rt/lowstate: the states the link releases at tick k
     take rt/lowcmd                         every LowCmd_ received: counted; a bad CRC or a bad field dropped
     world.apply(command)                   tau + kp (q_des - q) + kd (dq_des - dq) per motor
     world.step()
@@ -17,11 +18,14 @@ truth stays in this process, nothing of it is written on DDS.
 The command applied is the newest valid one; when none has come for ``damping_after`` s (or none yet) the
 motors damp: ``kp = 0``, ``kd = damping_kd``, ``tau = 0``. Pacing: real time by default (tick k at
 ``t0 + k dt`` on the wall clock; ticks that start late are counted); with ``lockstep`` the world steps only
-when a valid command has arrived after the state of the tick was written (the state is written again every
-``resend`` s of wall time meanwhile), so the controller may take its time. The run ends after ``duration``
+when a valid command has arrived after the newest intact state released at this tick was written (the state
+is written again every ``resend`` s of wall time meanwhile), so the controller may take its time; a tick
+that releases no intact state (one in flight, dropped or corrupted) steps on the command held, as a real
+robot would. The run ends after ``duration``
 s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary either way).
 """
 
+import copy
 import math
 import time
 from dataclasses import asdict, dataclass, field, fields
@@ -32,6 +36,7 @@ import numpy as np
 from gaitshift.control.frames import MotorCommand
 from gaitshift.dds.convert import command_from_lowcmd, lowstate_from_frame
 from gaitshift.dds.g1 import check_motor_order
+from gaitshift.dds.link import Link, LinkFaults
 from gaitshift.dds.own_messages import ESTIMATE_TOPIC, Estimate_
 from gaitshift.dds.scoring import EstimateScore, ScoreSummary
 from gaitshift.dds.signals import StopSignals
@@ -61,6 +66,7 @@ class RobotOptions:
         noise: the world's sensor noise profile (``none``, ``typical``, ``rl-peer``).
         resend: lockstep only: s of wall time between repeats of the state while no command comes.
         control_period: s, the physics step and the period of the states.
+        faults: what the link does to the states (:mod:`gaitshift.dds.link`).
     """
 
     robot: str = "g1"
@@ -74,6 +80,7 @@ class RobotOptions:
     noise: str = "none"
     resend: float = 0.02
     control_period: float = 0.002
+    faults: LinkFaults = field(default_factory=LinkFaults)
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
@@ -99,6 +106,8 @@ class RobotSummary:
         packets_received: LowCmd_ received; packets_dropped: of which dropped (a bad CRC or a bad field);
         crc_rejects: of which dropped for their CRC. commands_applied: ticks driven by a received command;
         damping_ticks: ticks in damping. late_ticks: real time only: ticks that started over a period late.
+        link_dropped, link_corrupted: states the link dropped, wrote with a wrong CRC;
+        link_delay_ticks_mean, link_delay_ticks_max: ticks from a state's tick to its writing (NaN: none).
         stopped_by: "duration" or the signal's name.
         estimates_received ... est_position_drift: the brain's estimate scored against the truth
         (:class:`~gaitshift.dds.scoring.ScoreSummary`; NaN when none was scored).
@@ -118,6 +127,10 @@ class RobotSummary:
     commands_applied: int = 0
     damping_ticks: int = 0
     late_ticks: int = 0
+    link_dropped: int = 0
+    link_corrupted: int = 0
+    link_delay_ticks_mean: float = math.nan
+    link_delay_ticks_max: int = 0
     stopped_by: str = ""
     estimates_received: int = 0
     estimates_scored: int = 0
@@ -150,8 +163,10 @@ class _Robot:
         self.summary = RobotSummary()
         self.command: MotorCommand | None = None
         self.command_time = -math.inf  # s of simulated time when the command arrived
-        self.fresh = False  # a valid command arrived since the last state was written
-        self.state: Any = None  # the last LowState_ written
+        self.fresh = False  # a valid command arrived since the last intact state was written
+        self.awaiting = False  # this tick released an intact state: lockstep waits for its command
+        self.state: Any = None  # the last intact LowState_ written
+        self.link = Link(opts.faults, self.dt, corrupted)
         zero = np.zeros(self.n)
         self.damping = MotorCommand(q=zero, dq=zero, kp=zero, kd=np.full(self.n, opts.damping_kd), tau=zero)
         self.estimates = topic_reader(endpoint, ESTIMATE_TOPIC, Estimate_, depth=256)
@@ -165,10 +180,13 @@ class _Robot:
         d, contacts = self.world.d, self.world.contacts
         assert contacts is not None
         self.score.truth(k, d.qpos, d.qvel, contacts.touching)
-        self.state = lowstate_from_frame(self.world.sense(k), k, self.opts.mode_machine)
-        self.endpoint.writer.write(self.state)
-        self.summary.states_published += 1
-        self.fresh = False
+        self.link.take(k, lowstate_from_frame(self.world.sense(k), k, self.opts.mode_machine))
+        self.awaiting = False
+        for state, intact in self.link.release(k):
+            self.endpoint.writer.write(state)
+            self.summary.states_published += 1
+            if intact:
+                self.state, self.awaiting, self.fresh = state, True, False
 
     def resend(self) -> None:
         self.endpoint.writer.write(self.state)
@@ -206,6 +224,13 @@ class _Robot:
         self.world.step()
         self.summary.ticks = k + 1
         self.summary.sim_time = (k + 1) * self.dt
+
+
+def corrupted(state: Any) -> Any:
+    """A copy of the ``LowState_`` with its CRC off by one (the link's corruption)."""
+    bad = copy.copy(state)
+    bad.crc = (int(state.crc) + 1) & 0xFFFFFFFF
+    return bad
 
 
 def _wait_for_command(robot: _Robot, k: int, stop: StopSignals) -> bool:
@@ -246,7 +271,7 @@ def run_robot(opts: RobotOptions, endpoint: Endpoint | None = None) -> RobotSumm
             if not opts.lockstep:
                 wall0 = _pace(wall0, k, robot.dt, robot.summary)
             robot.publish(k)
-            if opts.lockstep and not _wait_for_command(robot, k, stop):
+            if opts.lockstep and robot.awaiting and not _wait_for_command(robot, k, stop):
                 break
             robot.receive(k * robot.dt)
             robot.act(k)
@@ -257,6 +282,9 @@ def run_robot(opts: RobotOptions, endpoint: Endpoint | None = None) -> RobotSumm
         s.stopped_by = stop.why or "duration"
         s.wall_time = time.perf_counter() - start
         s.distance = float(np.linalg.norm(robot.world.d.qpos[:2] - robot.start_xy))
+        c = robot.link.counts
+        s.link_dropped, s.link_corrupted = c.dropped, c.corrupted
+        s.link_delay_ticks_mean, s.link_delay_ticks_max = c.delay_ticks_mean, c.delay_ticks_max
         robot.take_estimates()
         score = robot.score.summary()
         for f in fields(ScoreSummary):

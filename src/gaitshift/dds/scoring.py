@@ -118,7 +118,8 @@ class EstimateScore:
         self.sq_vel.append(float(dv @ dv))
         self.tilt.append(tilt_error(quat, t_quat))
         self.height.append(float(pos[2] - t_pos[2]))
-        self.contact_hits += int(np.sum(np.asarray(msg.contact[:2], bool) == self.touch[i]))
+        flags = np.array(list(msg.contact[:2]), int) != 0  # uint8[2]: bytes once off the wire, a list before
+        self.contact_hits += int(np.sum(flags == self.touch[i]))
         dyaw = math.remainder(yaw_e - yaw_t, math.tau)
         self.last = (dyaw, pos[:2] - t_pos[:2])
         self.first = self.first or self.last

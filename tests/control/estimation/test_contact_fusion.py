@@ -11,7 +11,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitshift.control.estimation.contact_fusion import CUSUM_SHIFT, CUSUM_THRESHOLD, LIFT_HEIGHT, ContactFusion
+from gaitshift.control.estimation.contact import ContactDetector
+from gaitshift.control.estimation.contact_fusion import (
+    CUSUM_SHIFT,
+    CUSUM_THRESHOLD,
+    LIFT_HEIGHT,
+    SWING_SPEED,
+    ContactFusion,
+)
 from gaitshift.errors import InputError
 
 WEIGHT = 330.0  # N, the G1
@@ -117,6 +124,25 @@ def test_a_sole_that_rose_off_its_floor_in_the_plans_swing_is_off_whatever_its_l
     tread.update(np.full(2, WEIGHT / 2), np.array([step, GROUND]), np.zeros(2), TRUE)
     assert _run(tread, loaded, step, FALSE, vz=0.3).all()  # rolling on its toe: still at its own stand
     assert not _run(tread, loaded, step + 1.5 * LIFT_HEIGHT, FALSE, vz=0.3).any()
+
+
+def test_a_sole_faster_than_a_loaded_one_can_move_is_off_in_the_plans_swing_and_releases_the_trigger():
+    """A loaded sole on a rigid floor is still (or slides, or rolls over its toe, its centre slower than
+    SWING_SPEED): a sole of the plan's swing whose centre moves faster carries nothing, whatever a force
+    reads; the force trigger it feeds is released at the next tick. In the plan's stance, slower, or
+    without a plan, the force decides."""
+    loaded = np.full(3, WEIGHT / 2)
+    fast, slow = np.array([1.5 * SWING_SPEED, 0.0]), np.array([0.5 * SWING_SPEED, 0.0])
+    for speed, plan, expected in ((fast, FALSE, False), (fast, TRUE, True), (slow, FALSE, True), (fast, None, True)):
+        det = _fusion()
+        flags = [det.update(loaded[:2], np.full(2, HIGH), np.zeros(2), plan, speed)[0] for _ in range(3)]
+        assert flags == [expected] * 3
+        assert det.veto[0] is (not expected) and not det.veto[1]
+    trigger = ContactDetector(WEIGHT, ON / WEIGHT, OFF / WEIGHT, debounce=1)
+    trigger.reset((True, True))
+    trigger.release([True, False])
+    assert trigger.contact.tolist() == [False, True]
+    assert trigger.update_values([WEIGHT / 2, WEIGHT / 2]) == (True, True)  # the force switches it on again
 
 
 @pytest.mark.parametrize(

@@ -93,6 +93,14 @@ class ContactDetector:
         """Feed one tick of forces; return the stance flags (2,) bool after this tick."""
         return np.array(self.update_values(forces.normal.tolist()))
 
+    def release(self, soles: list[bool]) -> None:
+        """Switch the flagged soles (2,) off and clear their debounce: the kinematics ruled their load out
+        (``veto`` of :mod:`gaitshift.control.estimation.contact_fusion`)."""
+        for i in (0, 1):
+            if soles[i]:
+                self._state[i] = False
+                self._count[i] = 0
+
     def update_values(self, normal: list[float]) -> tuple[bool, bool]:
         """:meth:`update` on the forces as plain floats (2,) N (the estimator's per-tick path); the flags."""
         state, count, n = self._state, self._count, self.window

@@ -22,7 +22,8 @@ The rules (a Schmitt trigger on the force whose switching depends on the other c
     rest_i = |dz_i| < near and |vz_i| < still                            the sole rests at the ground level
     off -> on  if fbar_i > on  or  (planned_i and rest_i)  or  (|dz_i| < near and S_i > cusum_h)
     on -> off  if g_i < off  and not rest_i,   g_i = fbar_i if planned_i else min(fbar_i, f_i)
-    off        whenever lifted_i = not planned_i and z_i - z_s,i > lift and vz_i > still   (it rose off its floor)
+    off        whenever veto_i = not planned_i and (lifted_i or |v_i| > swing)
+    lifted_i = z_i - z_s,i > lift and vz_i > still                      (it rose off its floor)
     S_i = max(0, S_i + (d / s^2) (f_i - d / 2)),  d = cusum_shift s       (reset when on or not near)
 
 ``S_i`` is Page's CUSUM, the log-likelihood ratio of a force of mean ``d`` against zero mean (white
@@ -36,6 +37,16 @@ the plan's swing whose lowest point has risen ``lift`` above where it stood, sti
 the floor whatever its force says (a force from the motors' torques lags the lift-off by its window,
 :mod:`gaitshift.control.estimation.torque_contact`). The sole's own stand, not the ground level, so
 that a sole leaving a higher tread is not taken for a lifted one.
+A sole of the plan's swing whose centre moves faster than ``swing`` (its estimated world speed
+``|v_i|``, m/s) carries no load either: a loaded sole on a rigid floor is still, or slides, or rolls
+over its toe, and the centre of a rolling sole moves at ``|omega| L / 2`` (measured, G1 tour with sole
+force sensors: the truth's contacts in the plan's swing move at most 0.62 m/s; its swing soles reach
+4 m/s). That is what a force from the motors' torques misreads: during a fast swing, eq. (2) of
+:mod:`~gaitshift.control.estimation.torque_contact` over its window read 26-42 N on a sole 0.15 m up,
+moving at 4 m/s, and the scheduler took it for an early touch-down (G1 tour, seed 0, 11.02 s: the
+robot fell 0.64 s later). ``veto_i`` releases the force trigger's stance flag at the next tick too
+(:meth:`gaitshift.control.estimation.contact.ContactDetector.release`), so neither the base filter
+nor the scheduler take such a sole for a stance.
 A sole that is on stays on while it rests at the ground level (a graze found by the CUSUM, a sole
 unloaded before its lift-off); one that is off needs the plan's stance to switch on from rest alone.
 Without a plan (``planned=None``) the plan's rest and swing rules are off.
@@ -61,6 +72,9 @@ STILL_SPEED = 0.05
 #: rise of a sole's lowest point above where it stood that makes it lifted, m: ~9 std of the
 #: relative height of the soles in the estimate (NEAR_HEIGHT)
 LIFT_HEIGHT = 2e-3
+#: world speed of a sole's centre above which a sole in the plan's swing carries no load, m/s (module
+#: docstring: 0.62 m/s is the fastest loaded sole measured in the plan's swing)
+SWING_SPEED = 1.0
 #: CUSUM target shift in std of one force sample, and its decision threshold (log-likelihood ratio)
 CUSUM_SHIFT, CUSUM_THRESHOLD = 0.7, 2.0
 
@@ -103,34 +117,48 @@ class ContactFusion:
         self._cusum = [0.0, 0.0]
         self.ground: float | None = None
         self._stand: list[float | None] = [None, None]
+        #: per sole (2,): the kinematics rule out a load at this tick (module docstring, ``veto_i``)
+        self.veto = [False, False]
 
     def update(
-        self, force: np.ndarray, height: np.ndarray, vz: np.ndarray, planned: np.ndarray | None = None
+        self,
+        force: np.ndarray,
+        height: np.ndarray,
+        vz: np.ndarray,
+        planned: np.ndarray | None = None,
+        speed: np.ndarray | None = None,
     ) -> np.ndarray:
-        """One tick: normal forces (2,) N, lowest-point heights (2,) m and vertical speeds (2,) m/s of
-        the soles (estimate, world frame), the plan's contact flags (2,) or None; the flags (2,) bool,
-        a shared read-only array."""
-        return self.update_values(force.tolist(), height.tolist(), vz.tolist(), planned)
+        """One tick: normal forces (2,) N, lowest-point heights (2,) m, vertical speeds (2,) m/s and
+        world speeds (2,) m/s (None: ``|vz|``) of the soles (estimate, world frame), the plan's contact
+        flags (2,) or None; the flags (2,) bool, a shared read-only array."""
+        speeds = np.abs(vz) if speed is None else speed
+        return self.update_values(force.tolist(), height.tolist(), vz.tolist(), planned, speeds.tolist())
 
     def update_values(
-        self, forces: list[float], heights: list[float], speeds: list[float], planned: np.ndarray | None = None
+        self,
+        forces: list[float],
+        heights: list[float],
+        vz: list[float],
+        planned: np.ndarray | None = None,
+        speeds: list[float] | None = None,
     ) -> np.ndarray:
         """:meth:`update` with the forces, heights and speeds as plain floats (2,) each (the estimator's
         per-tick path)."""
         plans = (True, True) if planned is None else planned.tolist()
         has_plan = planned is not None
-        left = self._sole(0, forces[0], heights[0], speeds[0], plans[0], has_plan)
-        right = self._sole(1, forces[1], heights[1], speeds[1], plans[1], has_plan)
+        v = [abs(vz[0]), abs(vz[1])] if speeds is None else speeds
+        left = self._sole(0, forces[0], heights[0], vz[0], v[0], plans[0], has_plan)
+        right = self._sole(1, forces[1], heights[1], vz[1], v[1], plans[1], has_plan)
         on = self.on_force
         loaded_l, loaded_r = left and forces[0] > on, right and forces[1] > on
         if loaded_l or loaded_r:
             self.ground = (heights[0] + heights[1]) / 2 if loaded_l and loaded_r else heights[0 if loaded_l else 1]
         for i, loaded in ((0, loaded_l), (1, loaded_r)):
-            if loaded and -self.still < speeds[i] < self.still:
+            if loaded and -self.still < vz[i] < self.still:
                 self._stand[i] = heights[i]
         return FLAG_PAIRS[left, right]
 
-    def _sole(self, i: int, f: float, height: float, v: float, plan: bool, has_plan: bool) -> bool:
+    def _sole(self, i: int, f: float, height: float, v: float, speed: float, plan: bool, has_plan: bool) -> bool:
         """The rules of the module docstring for sole ``i``: its new flag."""
         recent = self._recent[i]
         recent.append(f)
@@ -141,8 +169,9 @@ class ContactFusion:
         near = ground is not None and abs(height - ground) < self.near
         rest = near and -self.still < v < self.still
         stand = self._stand[i]
-        lifted = has_plan and not plan and stand is not None and height - stand > LIFT_HEIGHT and v > self.still
-        if lifted:
+        lifted = stand is not None and height - stand > LIFT_HEIGHT and v > self.still
+        veto = self.veto[i] = has_plan and not plan and (lifted or speed > SWING_SPEED)
+        if veto:
             on = False
             self._cusum[i] = 0.0
         elif self._state[i]:

@@ -2,7 +2,8 @@
 
 Per tick (period ``dt``)::
 
-    stance   = ContactDetector(forces)                    hysteresis + debounce on the sole forces
+    stance   = ContactDetector(forces)                    hysteresis + debounce on the sole forces, released
+                                                          where the last tick's fusion ruled a load out (veto)
     q, qd    = JointVelocityFilter(encoders, driver qd)   steady-state Kalman filter per joint
     kin      = LegKinematics(q, qd)                       soles, CoM, base in the IMU frame (private MjData)
     R, p, v  = filter.step(imu, kin.feet, stance, dt)     "inekf" (default) or "leg-odometry"
@@ -215,6 +216,10 @@ class StateEstimator:
             return self._compiled.step(imu, joints, forces, planned)
         normal = forces.normal.tolist()
         left, right = self.contact.update_values(normal)
+        veto = self.fusion.veto  # of the last tick: the kinematics ruled a load out (contact_fusion.py)
+        if veto[0] or veto[1]:
+            self.contact.release(veto)
+            left, right = left and not veto[0], right and not veto[1]
         q, qd = self.joints.update(joints.q, joints.qd)
         kin = self.kinematics.compute(q, qd)
         moving = self.slip.moving  # soles whose centre moved (slide or pivot) drop out of the filter
@@ -232,7 +237,8 @@ class StateEstimator:
         rates = np.concatenate((omega, qd))
         slip = FLAG_PAIRS[self.slip.update((left, right), rows[4:6], rates, self._sole_twist)]
         heights = self._lowest(rot[2].dot(kin.feet.rot).tolist(), rows)
-        fused = self.fusion.update_values(normal, heights, [rows[4][2], rows[5][2]], planned)
+        speeds = [math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) for v in rows[4:6]]
+        fused = self.fusion.update_values(normal, heights, [rows[4][2], rows[5][2]], planned, speeds)
         quat = np.empty(4)
         if self._axes_are_base:
             mujoco.mju_mat2Quat(quat, rot.reshape(9))

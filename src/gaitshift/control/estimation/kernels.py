@@ -32,7 +32,8 @@ import numpy as np
 # ist: int64 state
 I_STANCE, I_COUNT, I_FILLED, I_FUSED, I_MOVING = 0, 2, 4, 6, 8  # two entries each (left, right)
 I_STARTED = 10  # the joint filter has started
-IST_SIZE = 11
+I_VETO = 11  # (2,) the kinematics ruled a load out at the last tick (contact_fusion.py's veto)
+IST_SIZE = 13
 # fst: float64 state
 F_CUSUM, F_VEL_LP, F_SPEED, F_GROUND = 0, 2, 6, 8  # cusum (2), vel_lp (2 x 2), speed (2), ground (NaN: none)
 F_OMEGA = 9  # (3,) this tick's bias-corrected IMU rate, rad/s
@@ -145,6 +146,16 @@ def force_trigger(means: np.ndarray, on: float, off: float, debounce: int, ist: 
             ist[I_STANCE + i] = 0 if state else 1
             count = 0
         ist[I_COUNT + i] = count
+
+
+@numba.njit(cache=True)
+def release(ist: np.ndarray) -> None:
+    """The force trigger's flag off, its debounce cleared, for each sole the last tick's kinematics
+    ruled out (``ist[I_VETO]``; ContactDetector.release)."""
+    for i in range(2):
+        if ist[I_VETO + i] != 0:
+            ist[I_STANCE + i] = 0
+            ist[I_COUNT + i] = 0
 
 
 @numba.njit(cache=True)
@@ -289,17 +300,17 @@ def lowest_heights(
 
 @numba.njit(cache=True)
 def fuse_contact(
-    normal: np.ndarray, means: np.ndarray, heights: np.ndarray, vz: np.ndarray, planned: int,
-    par: np.ndarray, ist: np.ndarray, fst: np.ndarray,
+    normal: np.ndarray, means: np.ndarray, heights: np.ndarray, vz: np.ndarray, speed: np.ndarray,
+    planned: int, par: np.ndarray, ist: np.ndarray, fst: np.ndarray,
 ) -> None:  # fmt: skip
     """The rules of contact_fusion.py: per sole, force mean ``means``, latest sample ``normal`` (N),
     lowest-point height ``heights`` (m) against the ground level ``fst[F_GROUND]`` (NaN: none yet),
-    vertical speed ``vz`` (m/s), the plan's flags ``planned`` (bits 0, 1; -1: no plan); ``par`` =
-    [on, off, cusum gain, cusum half shift, near, still, cusum threshold, lift]. Updates the flags
-    ``ist[I_FUSED]``, the CUSUMs, the ground level (the sole(s) on with ``f > on``) and the soles'
-    stands (those of them still)."""
+    vertical speed ``vz`` and world speed ``speed`` of its centre (m/s), the plan's flags ``planned``
+    (bits 0, 1; -1: no plan); ``par`` = [on, off, cusum gain, cusum half shift, near, still, cusum
+    threshold, lift, swing speed]. Updates the flags ``ist[I_FUSED]`` and ``ist[I_VETO]``, the CUSUMs,
+    the ground level (the sole(s) on with ``f > on``) and the soles' stands (those of them still)."""
     on_f, off_f, gain, half, near_h, still, thresh = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    lift = par[7]
+    lift, swing = par[7], par[8]
     has_plan = planned >= 0
     ground = fst[F_GROUND]
     for i in range(2):
@@ -307,8 +318,10 @@ def fuse_contact(
         f, mean = normal[i], means[i]
         near = abs(heights[i] - ground) < near_h  # False while the ground level is NaN
         rest = near and -still < vz[i] < still
-        lifted = has_plan and not plan and heights[i] - fst[F_STAND + i] > lift and vz[i] > still  # NaN: False
-        if lifted:
+        lifted = heights[i] - fst[F_STAND + i] > lift and vz[i] > still  # NaN: False
+        veto = has_plan and not plan and (lifted or speed[i] > swing)
+        ist[I_VETO + i] = int(veto)
+        if veto:
             on = False
             fst[F_CUSUM + i] = 0.0
         elif ist[I_FUSED + i] != 0:
@@ -345,6 +358,7 @@ def sense(
     reading when not reset), the filtered q, qd into ``out[0:2 nj]``, ``qpos[7:]`` and ``qvel[6:]``."""
     force_means(normal, recent, ist, means)
     force_trigger(means, trigger[0], trigger[1], int(trigger[2]), ist)
+    release(ist)
     nj = q.shape[0]
     if ist[I_STARTED] == 0:
         x[0, :] = q
@@ -385,7 +399,10 @@ def settle(
     need = slip_lowpass(stance, xv, omega, out[nj : 2 * nj], par[2], par[3], fst, ist, rates_lp)
     heights = lowest_heights(rot9, site_xmat, kin_idx, pts, xv)
     plan = int(planned[0] != 0) | int(planned[1] != 0) << 1 if has_plan else -1
-    fuse_contact(normal, means, heights, xv[4:6, 2], plan, par[4:], ist, fst)
+    speed = np.empty(2)
+    for i in range(2):
+        speed[i] = math.sqrt(xv[4 + i, 0] ** 2 + xv[4 + i, 1] ** 2 + xv[4 + i, 2] ** 2)
+    fuse_contact(normal, means, heights, xv[4:6, 2], speed, plan, par[4:], ist, fst)
     o = 2 * nj + 24
     mat_to_quat(out[o : o + 4], rot9)
     for r in range(3):

@@ -4,7 +4,8 @@ For the InEKF (``inekf``, ``inekf-flat``) with an IMU on the base with the base'
 tick is (the kernels of :mod:`gaitshift.control.estimation.kernels`; the equations those of the modules
 named)::
 
-    sense(...)                 force means and trigger (contact.py), joint filter (joints.py), q and qd
+    sense(...)                 force means and trigger (contact.py), released where the last tick's
+                               kinematics ruled a load out (contact_fusion.py), joint filter (joints.py), q and qd
                                into the private MjData
     kinematics.run_mujoco()    mj_kinematics, mj_comPos, 2 mj_jacSite, mj_jacSubtreeCom (kinematics.py)
     settle(phase=0, ...)       points in the IMU frame, InEKF mean step (inekf.py); unless the filter
@@ -28,7 +29,7 @@ import numpy as np
 
 from gaitshift.control.estimation import kernels as k
 from gaitshift.control.estimation.contact import ContactDetector
-from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, LIFT_HEIGHT, ContactFusion
+from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, ContactFusion
 from gaitshift.control.estimation.inekf import InvariantEKF
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics
@@ -58,7 +59,8 @@ class CompiledTick:
         self.trigger = np.array([contact.on_force, contact.off_force, float(contact.debounce)])
         m = filt.mean_arrays(dt)
         fuse = [fusion.on_force, fusion.off_force, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still]
-        self.par = np.array([dt, float(m.every), slip.alpha, slip.slip_speed, *fuse, CUSUM_THRESHOLD, LIFT_HEIGHT])
+        rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED]
+        self.par = np.array([dt, float(m.every), slip.alpha, slip.slip_speed, *fuse, *rules])
         n = max(len(p) for p in points)
         self.pts = np.array([np.concatenate([p, np.repeat(p[:1], n - len(p), axis=0)]) for p in points])
         d = kin.data
