@@ -82,3 +82,41 @@ def initial_qpos(
     if err > 2e-3:
         raise InputError("scenario", "initial stance", f"a reachable standing pose (IK residual {err * 1e3:.1f} mm)")
     return q
+
+
+def sensed_start(plant: RobotModel, qpos0: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The start state (nq,) of a robot standing still on a level floor, from its encoders ``q`` (nu,) rad
+    (motor order) and the planned start ``qpos0`` (nq,): the joints as measured; the base turned by the
+    least rotation that makes the soles' mean normal vertical (the plan's heading kept); the base moved
+    up or down so that the lowest sole point is as high as in ``qpos0``, its horizontal place kept.
+
+    A world that puts the robot exactly at ``qpos0`` gets ``qpos0`` back (to its encoders' noise); a robot
+    that stood itself up (the brain's stand-up over DDS) gets the pelvis tilt its legs measure instead of
+    the plan's: on the G1 the stand-up leaves the pelvis 0.03 rad from the plan's tilt (docs/deploy.md).
+
+    .. math::
+
+        n = \\frac{R_{s,0} e_z + R_{s,1} e_z}{\\lVert R_{s,0} e_z + R_{s,1} e_z \\rVert},\\qquad
+        R_{base} \\leftarrow \\mathrm{Rot}(n \\times e_z, \\angle(n, e_z))\\, R_{base}
+    """
+    m = plant.model
+    d = mujoco.MjData(m)
+    dofs = np.asarray(plant.actuated_dofs)
+    out = np.array(qpos0, float)
+    out[m.jnt_qposadr[m.dof_jntid[dofs]]] = q
+    d.qpos[:] = qpos0
+    mujoco.mj_kinematics(m, d)
+    floor = min(float(plant.contact_points(d, s)[:, 2].min()) for s in (0, 1))
+    d.qpos[:] = out
+    mujoco.mj_kinematics(m, d)
+    n = plant.sole_frame(d, 0)[1][:, 2] + plant.sole_frame(d, 1)[1][:, 2]
+    n /= np.linalg.norm(n)
+    axis = np.cross(n, [0.0, 0.0, 1.0])
+    turn = np.zeros(4)
+    angle = float(np.arctan2(np.linalg.norm(axis), n[2]))
+    mujoco.mju_axisAngle2Quat(turn, axis / max(float(np.linalg.norm(axis)), 1e-12), angle)
+    mujoco.mju_mulQuat(out[3:7], turn, out[3:7].copy())
+    d.qpos[:] = out
+    mujoco.mj_kinematics(m, d)
+    out[2] += floor - min(float(plant.contact_points(d, s)[:, 2].min()) for s in (0, 1))
+    return out

@@ -12,8 +12,10 @@ The controller, the driver and the step feedback read only :class:`StateView`: t
 ``MjData`` (CoM = ``subtree_com[0]``, its velocity = ``subtree_linvel[0]``, frames and Jacobians all
 from the one state), the stance flags (force-based with hysteresis for the estimate, the frame's
 oracle contact for the oracle) and the slip flags. The estimator also runs when the controller acts on
-the oracle (its output unused), so every run reports how well it tracks. The first tick is the known
-start state at rest, both feet down (the estimator was reset to it).
+the oracle (its output unused), so every run reports how well it tracks. The first tick is the start
+state at rest, both feet down on a level floor: the plan's start pose with the joints its encoders measure
+and the base tilt that puts the soles level (:func:`~gaitshift.control.initial_pose.sensed_start`); the
+estimator starts from it.
 
 Latency: when the controller knows that its command acts ``L`` ticks after the frame it was computed
 from, it acts on the state predicted for that tick from the ``L`` commands already sent and the joint
@@ -57,6 +59,7 @@ from gaitshift.control.estimation.torque_contact import AccelerationWindow, Torq
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
 from gaitshift.control.frames import SensorFrame
+from gaitshift.control.initial_pose import sensed_start
 from gaitshift.errors import InputError
 from gaitshift.robots.model import RobotModel
 
@@ -228,16 +231,15 @@ class ControllerState:
             contact_window=CONTACT_WINDOW,
         )
         self.gyro_bias_walk = profile.gyro_bias_walk
-        self._reset = False  # reset at the first tick, unless a calibration came before it
+        self._calibration: GyroCalibration | None = None
+        self.start = self.qpos0  # the start state the estimator began from (the first frame's)
 
     def calibrate(self, still_gyro: np.ndarray) -> None:
-        """Restart the estimator from the start state with the gyro bias of a standstill: gyro readings
-        (N, 3) rad/s taken while the robot stood still (:mod:`gaitshift.control.estimation.calibration`)."""
+        """The gyro bias of a standstill, the estimator's prior when it starts at the first tick: gyro
+        readings (N, 3) rad/s taken while the robot stood still (:mod:`gaitshift.control.estimation.calibration`)."""
         if self.estimator is None:
             return
-        calibration = GyroCalibration.from_samples(still_gyro, self.robot.dt, self.gyro_bias_walk)
-        self.estimator.reset(self.qpos0, np.zeros(self.robot.model.nv), (True, True), calibration)
-        self._reset = True
+        self._calibration = GyroCalibration.from_samples(still_gyro, self.robot.dt, self.gyro_bias_walk)
 
     def observe(self, frame: SensorFrame, planned: np.ndarray) -> StateView:
         """The tick's view from ``frame`` (with the plan's contact flags ``planned`` (2,))."""
@@ -246,11 +248,10 @@ class ControllerState:
             raise InputError("SensorFrame.oracle", None, "the world's state: this controller acts on the oracle")
         if self.estimator is None:
             return self._view(*self._oracle(frame))
-        if first and not self._reset:
-            self.estimator.reset(self.qpos0, np.zeros(self.robot.model.nv), (True, True))
-            self._reset = True
-        if first:  # the known start state (at rest, both feet down): the estimator was reset to it
-            q_est, v_est = self.qpos0, np.zeros(self.robot.model.nv)
+        if first:  # at rest, both feet down: the start state from the encoders on a level floor
+            self.start = sensed_start(self.robot, self.qpos0, frame.q)
+            self.estimator.reset(self.start, np.zeros(self.robot.model.nv), (True, True), self._calibration)
+            q_est, v_est = self.start, np.zeros(self.robot.model.nv)
             touch_est, slip_est, com, com_vel, cost = np.ones(2, bool), np.zeros(2, bool), None, None, 0.0
             fused, self._last_t = touch_est, frame.t
         else:
