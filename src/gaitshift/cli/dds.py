@@ -53,6 +53,9 @@ def dds_robot_cmd(
     delay_ms: float = typer.Option(0.0, "--delay-ms", help="Link fault: ms added to every state (at 2 ms ticks)."),
     jitter_ms: float = typer.Option(0.0, "--jitter-ms", help="Link fault: ms, uniform spread of the delay."),
     seed: int = typer.Option(0, "--seed", help="Seed of the link's faults."),
+    world: str | None = typer.Option(
+        None, "--world", help="Scenario (name or YAML) whose terrain and floor friction build the world (flat)."
+    ),
 ) -> None:
     """Run ROBOT in gaitshift's MuJoCo world behind the protocol: rt/lowstate out every control period,
     rt/lowcmd in (bad CRCs dropped and counted), tau + kp (q_des - q) + kd (dq_des - dq) per motor; with
@@ -80,6 +83,7 @@ def dds_robot_cmd(
         mode_machine=mode_machine,
         noise=noise,
         faults=faults,
+        world=world,
     )
     mode = "lockstep" if lockstep else "real time"
     typer.echo(f"{robot} on DDS domain {domain} over {iface} ({mode}): rt/lowstate out, rt/lowcmd in", err=True)

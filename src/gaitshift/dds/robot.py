@@ -42,10 +42,13 @@ from gaitshift.dds.scoring import EstimateScore, ScoreSummary
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint, topic_reader
 from gaitshift.errors import InputError, number_in
+from gaitshift.models.terrain import FLAT, Terrain
 from gaitshift.robots.model import standing_qpos
+from gaitshift.scenario import load_scenario
+from gaitshift.scenario.terrain import world_ground
 from gaitshift.sim.loop import SimOptions
 from gaitshift.sim.plant import build_plant
-from gaitshift.sim.world import World
+from gaitshift.sim.world import World, with_floor_friction
 
 __all__ = ["RobotOptions", "RobotSummary", "run_robot"]
 
@@ -67,6 +70,8 @@ class RobotOptions:
         resend: lockstep only: s of wall time between repeats of the state while no command comes.
         control_period: s, the physics step and the period of the states.
         faults: what the link does to the states (:mod:`gaitshift.dds.link`).
+        world: a scenario (built-in name or YAML) whose ``terrain:`` the world is built on, and whose
+            ``sim: {friction}`` the floor takes; None: a flat floor of the model's friction.
     """
 
     robot: str = "g1"
@@ -81,6 +86,7 @@ class RobotOptions:
     resend: float = 0.02
     control_period: float = 0.002
     faults: LinkFaults = field(default_factory=LinkFaults)
+    world: str | None = None
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
@@ -92,6 +98,7 @@ class RobotOptions:
         if isinstance(self.mode_machine, bool) or not isinstance(self.mode_machine, int):
             raise InputError("--mode-machine", self.mode_machine, "an integer in [0, 255]")
         number_in("--mode-machine", self.mode_machine, (0, 255))
+        scenario_world(self.world)  # a bad scenario: one InputError before any DDS traffic
 
 
 @dataclass
@@ -153,11 +160,13 @@ class _Robot:
 
     def __init__(self, opts: RobotOptions, endpoint: Endpoint) -> None:
         self.opts, self.endpoint = opts, endpoint
-        plant = build_plant(opts.control_period, opts.robot)
+        ground, friction = scenario_world(opts.world)
+        plant = with_floor_friction(build_plant(opts.control_period, opts.robot, ground), friction)
         self.n = check_motor_order(plant.motor_names)
         qpos0 = standing_qpos(plant)
         sim = SimOptions(control_period=opts.control_period, noise=opts.noise)
         self.world = World(plant, qpos0, sim, False, 1, depth_camera=False)  # LowState_ carries no depth
+        self.world.on_ground(ground)
         self.dt = self.world.dt
         self.start_xy = qpos0[:2].copy()
         self.summary = RobotSummary()
@@ -224,6 +233,19 @@ class _Robot:
         self.world.step()
         self.summary.ticks = k + 1
         self.summary.sim_time = (k + 1) * self.dt
+
+
+def scenario_world(world: str | None) -> tuple[Terrain, float | None]:
+    """The ground and the floor friction of the world of scenario ``world`` (None: flat, the model's)."""
+    if world is None:
+        return FLAT, None
+    try:
+        sc = load_scenario(world)
+    except InputError as e:
+        field = "--world" if e.field == "scenario" else f"--world {world}: {e.field}"
+        raise InputError(field, e.value, e.allowed) from None
+    sim = getattr(sc, "sim", None)
+    return world_ground(sc) or FLAT, getattr(sim, "friction", None)
 
 
 def corrupted(state: Any) -> Any:

@@ -56,3 +56,10 @@ def check_pieces(pieces: tuple[TerrainPiece, ...]) -> None:
 def terrain_of(pieces: tuple[TerrainPiece, ...]) -> Terrain:
     """The :class:`~gaitshift.models.terrain.Terrain` of the scenario's pieces."""
     return Terrain(tuple(Piece(p.x[0], p.x[1], p.z[0], p.z[1]) for p in pieces))
+
+
+def world_ground(scenario: object) -> Terrain | None:
+    """The ground a scenario's world is built on (its ``terrain:`` pieces, whatever the planner is told),
+    or None for a scenario without one (a flat floor)."""
+    pieces = getattr(scenario, "terrain", ())
+    return terrain_of(pieces) if pieces else None

@@ -22,7 +22,7 @@ import numpy as np
 from gaitshift.control.drivers import PlanDriver, prepare
 from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig
-from gaitshift.scenario.terrain import terrain_of
+from gaitshift.scenario.terrain import world_ground
 from gaitshift.sim.bumps import Bump
 from gaitshift.sim.loop import SimOptions, TickHook, simulate
 from gaitshift.sim.pushes import Push, mid_stance_pushes
@@ -98,8 +98,7 @@ def run_prepared(
     (:func:`simulate_scenario`)."""
     sc, cfg, drv, plan = prepared
     opts = options_of(plan, scenario_options(sc), options)
-    ground = terrain_of(sc.terrain) if getattr(sc, "terrain", ()) else None  # the world's, known or not
-    result = simulate(plan, opts, driver=drv, hooks=hooks, robot=cfg, ground=ground)
+    result = simulate(plan, opts, driver=drv, hooks=hooks, robot=cfg, ground=world_ground(sc))  # known or not
     return ScenarioRun(sc, cfg, drv, plan, result)
 
 

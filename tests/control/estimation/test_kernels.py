@@ -71,10 +71,8 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
     fst[kernels.F_GROUND] = np.nan
     fst[kernels.F_STAND : kernels.F_STAND + 2] = np.nan
     recent, means = np.zeros((2, window)), np.zeros(2)
-    par = np.array(
-        [on, off, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still, CUSUM_THRESHOLD, LIFT_HEIGHT]
-        + [SWING_SPEED]
-    )
+    rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED]
+    par = np.array([on, off, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still, *rules])
     fired = 0
     for _ in range(4000):
         normal = rng.uniform(-3.0, 14.0, 2)
