@@ -1,0 +1,100 @@
+"""A scenario over DDS under link faults (docs/deploy.md, "Faults on the link"): ``gaitshift dds robot`` and
+``gaitshift dds control`` as two processes on the loopback, one fresh domain per run, in lockstep (the
+robot steps once per command: a loaded machine slows the run, it does not change it), once per fault
+configuration. A row per run: the brain's exit, phase and reason; the robot's fall, the distance its pelvis
+walked against the plan's; the link's counts; the brain's estimate as the robot scored it; the brain's tick
+times (lockstep: the brain's own compute per tick, not a real-time figure).
+
+    PYTHONPATH=src .venv/bin/python benchmarks/dds_faults.py [SCENARIO] [--noise typical] [--domain 120]
+        [--only clean drop ...] [--json out.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+#: name -> the robot process's link flags
+FAULTS = {
+    "clean": [],
+    "drop 5 %": ["--drop", "0.05"],
+    "delay 4 +- 1 ms": ["--delay-ms", "4", "--jitter-ms", "1"],
+    "corrupt 2 %": ["--corrupt", "0.02"],
+    "all three": ["--drop", "0.05", "--delay-ms", "4", "--jitter-ms", "1", "--corrupt", "0.02"],
+}
+CODE = "from gaitshift.cli import main; main()"
+
+
+def run(scenario: str, name: str, domain: int, noise: str, folder: Path) -> dict:
+    """One run of the pair (module docstring): both summaries and the wall time."""
+    env = {**os.environ, "MUJOCO_GL": "egl"}
+    robot_json = folder / f"robot-{domain}.json"
+    robot_cmd = ["dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--noise", noise]
+    robot_cmd += ["--summary", str(robot_json), "--world", scenario, "--seed", "1", *FAULTS[name]]
+    brain_cmd = ["dds", "control", scenario, "--domain", str(domain), "--lockstep", "--json"]
+    start = time.perf_counter()
+    with open(folder / f"robot-{domain}.err", "w") as rerr:
+        robot = subprocess.Popen([sys.executable, "-c", CODE, *robot_cmd], stderr=rerr, env=env)
+        brain = subprocess.run(
+            [sys.executable, "-c", CODE, *brain_cmd], check=False, capture_output=True, text=True, env=env
+        )
+        robot.terminate()
+        robot.wait(timeout=60)
+    wall = time.perf_counter() - start
+    b = json.loads(brain.stdout) if brain.stdout.strip() else {}
+    r = json.loads(robot_json.read_text()) if robot_json.exists() else {}
+    return {"fault": name, "exit": brain.returncode, "stderr": brain.stderr.strip().splitlines()[-1:], "brain": b,
+            "robot": r, "wall_s": wall}  # fmt: skip
+
+
+def row(res: dict) -> str:
+    """Markdown row of one run."""
+    b, r = res["brain"], res["robot"]
+
+    def f(d: dict, key: str, fmt: str = ".4f") -> str:
+        v = d.get(key)
+        return "-" if v is None else format(v, fmt)
+
+    fell = f"at {r['fall_time']:.2f} s" if r.get("fell") else "no"
+    return (
+        f"| {res['fault']} | {res['exit']} ({b.get('phase', '?')}: {b.get('reason', '')}) | {fell} | "
+        f"{f(r, 'distance', '.2f')} / {f(b, 'planned_distance', '.2f')} | {r.get('link_dropped', 0)} / "
+        f"{r.get('link_corrupted', 0)} / {f(r, 'link_delay_ticks_mean', '.2f')} | {b.get('states_dropped', '-')} | "
+        f"{f(r, 'est_velocity_rmse')} | {f(r, 'est_tilt_rmse')} | {f(r, 'est_contact_accuracy', '.3f')} | "
+        f"{f(b, 'tick_p50_ms', '.2f')} / {f(b, 'tick_p99_ms', '.2f')} / {f(b, 'tick_p999_ms', '.2f')} | "
+        f"{res['wall_s']:.0f} |"
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("scenario", nargs="?", default="g1-tour")
+    ap.add_argument("--noise", default="typical")
+    ap.add_argument("--domain", type=int, default=120)
+    ap.add_argument("--only", nargs="+", choices=list(FAULTS), default=list(FAULTS))
+    ap.add_argument("--json", type=Path)
+    args = ap.parse_args()
+    results = []
+    print(
+        "| link | brain exit | robot fell | distance / planned m | dropped / corrupted / mean delay ticks "
+        "| brain CRC drops | est. vel RMSE m/s | est. tilt RMSE rad | est. contact | brain tick p50 / p99 / p99.9 ms "
+        "| wall s |\n|---|---|---|---|---|---|---|---|---|---|---|",
+        flush=True,
+    )
+    with tempfile.TemporaryDirectory() as tmp:
+        for i, name in enumerate(args.only):
+            res = run(args.scenario, name, args.domain + i, args.noise, Path(tmp))
+            results.append(res)
+            print(row(res), flush=True)
+    if args.json:
+        args.json.write_text(json.dumps(results, indent=1))
+
+
+if __name__ == "__main__":
+    main()
