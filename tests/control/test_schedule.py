@@ -130,3 +130,17 @@ def test_force_cap_ramps_up_after_touchdown_and_down_before_lift_off(walk):
     swinging = _scheduler(traj, plan)
     _replay(swinging, traj, upto=i0 + 1)
     assert not swinging.stance[side] and swinging.force_caps(float(traj.t[i0]))[side] == 0.0
+
+
+def test_a_swing_whose_landing_lies_past_the_plan_lands_at_the_plans_last_sample(walk):
+    """The plan's touchdown sample of each swing; a plan cut before the landing (a late re-plan, off the
+    tick) gives its last sample until the new plan comes (no infinite time turned into an index)."""
+    traj, plan = walk
+    side = _swinging_side(traj)
+    i0, i1 = _first_swing(traj, side)
+    sched = _scheduler(traj, plan)
+    _replay(sched, traj, upto=i0 + 1)
+    assert not sched.stance[side] and sched.landing_sample(side) == i1
+    assert np.array_equal(traj.foot_pos[sched.landing_sample(side), side], traj.foot_pos[i1, side])
+    sched.swing_end[side] = np.inf  # what _lift_off sets when the plan holds no later landing
+    assert sched.landing_sample(side) == len(traj) - 1

@@ -88,7 +88,10 @@ def test_the_brain_stands_the_robot_up_walks_the_plan_and_ends_in_damping(tmp_pa
     # the hold's 100 gyro samples calibrated the controller; the robot scored every controller tick's estimate
     assert s["calibration_samples"] == 100 and s["estimates_written"] == s["ticks"]
     assert r["estimates_scored"] == s["locomotion_ticks"] and r["estimates_unmatched"] == 0
-    assert r["est_velocity_rmse"] < 0.05 and r["est_tilt_rmse"] < 0.05 and abs(r["est_yaw_drift"]) < 0.02
+    assert r["est_velocity_rmse"] < 0.05 and abs(r["est_yaw_drift"]) < 0.02
+    # the estimator starts from the pose the stand-up left (its tilt from the soles, not the plan's: 0.03 rad
+    # off) and the score reads the contact flags per foot: 0.0007 rad and 0.986 measured
+    assert r["est_tilt_rmse"] < 0.005 and r["est_contact_accuracy"] > 0.95
 
 
 def test_a_lossy_late_link_still_walks_the_plan(tmp_path):

@@ -310,9 +310,7 @@ class Controller:
         """Sole positions (2, 3) m as the controller sees them, and the plan's footholds (2, 3) m of the
         stances the scheduler is at (the plan's sole positions at each foot's last planned touchdown)."""
         measured = np.array([self.robot.sole_frame(view.data, s)[0] for s in (0, 1)])
-        last = len(self.traj) - 1
-        j = [min(round(self.sched.swing_end[s] / self.traj.dt), last) for s in (0, 1)]
-        planned = np.array([self.traj.foot_pos[j[s], s] for s in (0, 1)])
+        planned = np.array([self.traj.foot_pos[self.sched.landing_sample(s), s] for s in (0, 1)])
         return measured, planned
 
 

@@ -77,7 +77,7 @@ def tick_reference(
         dur = sched.swing_duration(s)
         u = sched.swing_progress(t, s)
         if not plan.terrain.flat:  # the corrected touchdown stays on the planned foothold's tread
-            land_x = float(traj.foot_pos[min(round(sched.swing_end[s] / traj.dt), len(traj) - 1), s, 0])
+            land_x = float(traj.foot_pos[sched.landing_sample(s), s, 0])
             want = land_x + shift.shift[0] + shift.offset[s, 0]
             # written back: at touchdown the plan shift takes the correction the foot was given
             clamped = plan.terrain.clamp_sole(land_x, want, plan.tread_half, shift.settings.edge_sigmas * pos_std)

@@ -82,6 +82,13 @@ class FootScheduler:
         """Planned duration of the current (or last) swing of ``side``, s (at least 1 us)."""
         return float(max(self.swing_end[side] - self.swing_start[side], 1e-6))
 
+    def landing_sample(self, side: int) -> int:
+        """The plan sample of the planned touchdown of ``side``'s current (or last) swing; the plan's last
+        sample when the plan ends before it (a re-plan that comes late, off the tick: ``retarget`` then
+        takes the new plan's touchdown)."""
+        traj = self.traj
+        return min(round(min(float(self.swing_end[side]), float(traj.t[-1])) / traj.dt), len(traj.t) - 1)
+
     def swing_progress(self, t: float, side: int) -> float:
         """u = (t - lift-off) / (planned touchdown - lift-off) of the current swing of ``side``; u > 1
         when the touchdown is late."""
