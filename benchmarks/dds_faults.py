@@ -3,7 +3,8 @@
 robot steps once per command: a loaded machine slows the run, it does not change it), once per fault
 configuration. A row per run: the brain's exit, phase and reason; the robot's fall, the distance its pelvis
 walked against the plan's; the link's counts; the brain's estimate as the robot scored it; the brain's tick
-times (lockstep: the brain's own compute per tick, not a real-time figure).
+times (lockstep: the brain's own compute per tick, not a real-time figure). The stale limit is 0.5 s: in
+lockstep the wall clock measures the machine's load, not the link.
 
     PYTHONPATH=src .venv/bin/python benchmarks/dds_faults.py [SCENARIO] [--noise typical] [--domain 120]
         [--only clean drop ...] [--json out.json]
@@ -37,7 +38,7 @@ def run(scenario: str, name: str, domain: int, noise: str, folder: Path) -> dict
     robot_json = folder / f"robot-{domain}.json"
     robot_cmd = ["dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--noise", noise]
     robot_cmd += ["--summary", str(robot_json), "--world", scenario, "--seed", "1", *FAULTS[name]]
-    brain_cmd = ["dds", "control", scenario, "--domain", str(domain), "--lockstep", "--json"]
+    brain_cmd = ["dds", "control", scenario, "--domain", str(domain), "--lockstep", "--json", "--stale-limit", "0.5"]
     start = time.perf_counter()
     with open(folder / f"robot-{domain}.err", "w") as rerr:
         robot = subprocess.Popen([sys.executable, "-c", CODE, *robot_cmd], stderr=rerr, env=env)

@@ -8,6 +8,8 @@ documented swing progress; the caps must follow the documented linear ramps, com
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -132,15 +134,20 @@ def test_force_cap_ramps_up_after_touchdown_and_down_before_lift_off(walk):
     assert not swinging.stance[side] and swinging.force_caps(float(traj.t[i0]))[side] == 0.0
 
 
-def test_a_swing_whose_landing_lies_past_the_plan_lands_at_the_plans_last_sample(walk):
-    """The plan's touchdown sample of each swing; a plan cut before the landing (a late re-plan, off the
-    tick) gives its last sample until the new plan comes (no infinite time turned into an index)."""
+def test_a_swing_the_plan_holds_no_landing_for_ends_at_the_plans_end_until_a_plan_gives_it(walk):
+    """A plan cut before a swing's landing (a re-plan off the tick that comes late): the swing ends at the
+    plan's end, finite (the time left feeds the step feedback), and takes the touchdown of the next plan
+    that holds one; the landing sample is the plan's touchdown sample."""
     traj, plan = walk
     side = _swinging_side(traj)
     i0, i1 = _first_swing(traj, side)
-    sched = _scheduler(traj, plan)
+    land = list(plan.land)
+    land[side] = land[side][:0]  # the plan holds no landing of this foot
+    cut = dataclasses.replace(plan, land=tuple(land))
+    sched = _scheduler(traj, cut)
     _replay(sched, traj, upto=i0 + 1)
-    assert not sched.stance[side] and sched.landing_sample(side) == i1
-    assert np.array_equal(traj.foot_pos[sched.landing_sample(side), side], traj.foot_pos[i1, side])
-    sched.swing_end[side] = np.inf  # what _lift_off sets when the plan holds no later landing
-    assert sched.landing_sample(side) == len(traj) - 1
+    assert not sched.stance[side] and sched.open_swing[side]
+    assert sched.swing_end[side] == traj.t[-1] and sched.landing_sample(side) == len(traj) - 1
+    sched.retarget(traj, plan)  # the new plan holds the landing
+    assert not sched.open_swing[side] and sched.swing_end[side] == pytest.approx(traj.t[i1])
+    assert sched.landing_sample(side) == i1

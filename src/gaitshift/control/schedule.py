@@ -45,7 +45,9 @@ class FootScheduler:
     before any); ``swing_start``/``swing_end`` the current (or last) swing's lift-off and planned
     touchdown times, s; ``swing_flight`` whether that swing spans a flight phase of the plan;
     ``lift_at`` the planned lift-off that ends the current stance, s; ``swing_speed`` the plan's mean
-    horizontal CoM speed over the current swing, m/s.
+    horizontal CoM speed over the current swing, m/s; ``open_swing`` a swing the plan holds no landing
+    for (a re-plan off the tick that comes late: the swing ends at the plan's end until the new plan
+    gives its touchdown, so that no time left is infinite).
 
     Args:
         traj: the plan; ``plan`` its :class:`PlanSamples`.
@@ -62,6 +64,7 @@ class FootScheduler:
         self.t_touch = np.full(2, -1.0)
         self.swing_start = np.zeros(2)
         self.swing_end = np.zeros(2)
+        self.open_swing = np.zeros(2, bool)
         self.swing_flight = np.zeros(2, bool)
         self.swing_speed = np.zeros(2)
         self.lift_at = np.array([next_time(plan.lift[k], 0.0) for k in (0, 1)])
@@ -75,8 +78,8 @@ class FootScheduler:
             if self.stance[s]:
                 if not math.isfinite(self.lift_at[s]):
                     self.lift_at[s] = next_time(plan.lift[s], max(self.t_touch[s], self.swing_end[s], 0.0))
-            elif not math.isfinite(self.swing_end[s]):
-                self.swing_end[s] = next_time(plan.land[s], self.swing_start[s])
+            elif self.open_swing[s]:
+                self._set_landing(s, next_time(plan.land[s], self.swing_start[s]))
 
     def swing_duration(self, side: int) -> float:
         """Planned duration of the current (or last) swing of ``side``, s (at least 1 us)."""
@@ -107,10 +110,15 @@ class FootScheduler:
                 # the stance lasts until the plan's lift-off that follows the planned touchdown
                 self.lift_at[s] = next_time(self.plan.lift[s], max(t, self.swing_end[s]))
 
+    def _set_landing(self, s: int, t_land: float) -> None:
+        """The planned touchdown of ``s``'s swing; the plan's end when the plan holds none (``open_swing``)."""
+        self.open_swing[s] = not math.isfinite(t_land)
+        self.swing_end[s] = float(self.traj.t[-1]) if self.open_swing[s] else t_land
+
     def _lift_off(self, t: float, s: int) -> None:
         self.stance[s] = False
         self.swing_start[s] = t
-        self.swing_end[s] = next_time(self.plan.land[s], t)
+        self._set_landing(s, next_time(self.plan.land[s], t))
         dt = self.traj.dt
         j0 = round(t / dt)
         j1 = round(min(self.swing_end[s], float(self.traj.t[-1])) / dt)
