@@ -103,10 +103,9 @@ class SimOptions:
         contact: the controller's contact sensing: ``"force"`` (the robot has sole force sensors) or
             ``"torque"`` (it has none: the world reports no foot force and the controller finds the
             sole forces from the motors' torques, :mod:`gaitshift.control.estimation.torque_contact`);
-            None: what the robot YAML's ``sensors.foot_force`` says
-            (:func:`gaitshift.control.settings.contact_source`). The default is ``"force"``: the
-            simulated robot carries sole force sensors until contact from torques holds every
-            built-in robot's scenarios (docs/robots.md, "Contact without foot force": measured falls).
+            None (the default): what the robot YAML's ``sensors.foot_force`` says the real robot has
+            (:func:`gaitshift.control.settings.contact_source`): torques for every shipped robot, whose
+            real soles carry no force sensors (docs/robots.md, "On the estimate": what holds on torques).
 
     The actuation delay is ``latency``: one setting for the sensing-to-actuation delay of the loop
     (:mod:`gaitshift.sim.latency`), not a second one.
@@ -138,7 +137,7 @@ class SimOptions:
     motor_strength: float = 1.0
     joint_vel_noise: float = 0.0
     bumps: tuple[Bump, ...] = ()
-    contact: str | None = "force"
+    contact: str | None = None
 
     def __post_init__(self) -> None:
         self.controller_settings()  # the controller's keys, checked
