@@ -4,10 +4,12 @@ robot steps once per command: a loaded machine slows the run, it does not change
 configuration. A row per run: the brain's exit, phase and reason; the robot's fall, the distance its pelvis
 walked against the plan's; the link's counts; the brain's estimate as the robot scored it; the brain's tick
 times (lockstep: the brain's own compute per tick, not a real-time figure). The stale limit is 0.5 s: in
-lockstep the wall clock measures the machine's load, not the link.
+lockstep the wall clock measures the machine's load, not the link. The brain re-plans inline by default
+(``--replan``): in lockstep a tick may take its time, and the runs do not depend on the load (the off-tick
+worker's plans come later the busier the machine, a real-time matter: docs/deploy.md "Real time").
 
     PYTHONPATH=src .venv/bin/python benchmarks/dds_faults.py [SCENARIO] [--noise typical] [--domain 120]
-        [--only clean drop ...] [--json out.json]
+        [--only clean drop ...] [--latency TICKS] [--replan inline] [--json out.json]
 """
 
 from __future__ import annotations
@@ -32,13 +34,16 @@ FAULTS = {
 CODE = "from gaitshift.cli import main; main()"
 
 
-def run(scenario: str, name: str, domain: int, noise: str, folder: Path) -> dict:
+def run(
+    scenario: str, name: str, domain: int, noise: str, folder: Path, latency: int = 0, replan: str = "inline"
+) -> dict:
     """One run of the pair (module docstring): both summaries and the wall time."""
     env = {**os.environ, "MUJOCO_GL": "egl"}
     robot_json = folder / f"robot-{domain}.json"
     robot_cmd = ["dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--noise", noise]
     robot_cmd += ["--summary", str(robot_json), "--world", scenario, "--seed", "1", *FAULTS[name]]
     brain_cmd = ["dds", "control", scenario, "--domain", str(domain), "--lockstep", "--json", "--stale-limit", "0.5"]
+    brain_cmd += ["--latency", str(latency), "--replan", replan]
     start = time.perf_counter()
     with open(folder / f"robot-{domain}.err", "w") as rerr:
         robot = subprocess.Popen([sys.executable, "-c", CODE, *robot_cmd], stderr=rerr, env=env)
@@ -50,6 +55,7 @@ def run(scenario: str, name: str, domain: int, noise: str, folder: Path) -> dict
     wall = time.perf_counter() - start
     b = json.loads(brain.stdout) if brain.stdout.strip() else {}
     r = json.loads(robot_json.read_text()) if robot_json.exists() else {}
+    name += f", brain --latency {latency}" if latency else ""
     return {"fault": name, "exit": brain.returncode, "stderr": brain.stderr.strip().splitlines()[-1:], "brain": b,
             "robot": r, "wall_s": wall}  # fmt: skip
 
@@ -79,6 +85,8 @@ def main() -> None:
     ap.add_argument("--noise", default="typical")
     ap.add_argument("--domain", type=int, default=120)
     ap.add_argument("--only", nargs="+", choices=list(FAULTS), default=list(FAULTS))
+    ap.add_argument("--latency", type=int, default=0, help="the brain's --latency (ticks it predicts across)")
+    ap.add_argument("--replan", default="inline", help="the brain's --replan (lockstep: inline is deterministic)")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     results = []
@@ -90,7 +98,7 @@ def main() -> None:
     )
     with tempfile.TemporaryDirectory() as tmp:
         for i, name in enumerate(args.only):
-            res = run(args.scenario, name, args.domain + i, args.noise, Path(tmp))
+            res = run(args.scenario, name, args.domain + i, args.noise, Path(tmp), args.latency, args.replan)
             results.append(res)
             print(row(res), flush=True)
     if args.json:

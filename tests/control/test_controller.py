@@ -144,3 +144,15 @@ def test_a_controller_with_torque_contact_ticks_on_frames_without_foot_force():
     f.tick(frame)
     with pytest.raises(InputError, match=r"SensorFrame\.foot_force"):
         f.tick(SensorFrame(**{**bare.__dict__, "t": c.period}))
+
+
+def test_a_live_plans_look_ahead_is_not_the_end_of_the_run():
+    """A live plan is tracked as a look-ahead a few steps long: past its last sample the run goes on (a re-plan
+    off the tick may come late), while the run's last plan, the robot at rest, ends it."""
+    live = Controller.from_scenario("g1-tour", replan="inline")
+    assert live.traj.meta["open_end"] and live.traj.t[-1] < 10.0  # the tour lasts 26 s and more
+    assert not live.finished(float(live.traj.t[-1]) + 1.0)
+    whole = gaitshift.plan("g1-tour")  # the run planned to its end: the robot at rest
+    assert not whole.meta.get("open_end", False)
+    offline = Controller.from_scenario("g1-walk")
+    assert offline.finished(float(offline.traj.t[-1]) + 0.01) and not offline.finished(float(offline.traj.t[-1]))

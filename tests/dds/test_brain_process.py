@@ -192,6 +192,7 @@ def test_no_robot_is_one_line_and_exit_1(tmp_path):
         (["--state-timeout", "-1"], "--state-timeout"),
         (["--hold", "-0.1"], "--hold"),
         (["--diag-every", "-1"], "--diag-every"),
+        (["--latency", "51"], "--latency"),
         (["--cmd-topic"], "--cmd-topic"),  # g1-walk's plan is fixed: no live command
     ],
 )

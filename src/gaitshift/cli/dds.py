@@ -17,7 +17,7 @@ from gaitshift.errors import InputError
 
 if TYPE_CHECKING:
     from gaitshift.control.controller import Controller
-    from gaitshift.dds.brain_options import BrainSummary
+    from gaitshift.dds.brain_options import BrainOptions, BrainSummary
 
 
 def network_interface(iface: str) -> str:
@@ -134,12 +134,12 @@ def dds_control_cmd(
     diag_every: int = typer.Option(
         1, "--diag-every", help="Write the state estimate on rt/gaitshift/estimate every N ticks (0: never)."
     ),
+    latency: int = typer.Option(0, "--latency", help="Ticks from a state to its command acting: predicted."),
 ) -> None:
     """Run SCENARIO's controller over the protocol: rt/lowstate in, rt/lowcmd out, behind the safety
     machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Exit 0 when the plan
     ended, 1 on a fault or when no robot answers."""
-    from gaitshift.dds.brain import BrainOptions, build_controller, run_brain
-    from gaitshift.dds.warmup import warm_up
+    from gaitshift.dds.brain import BrainOptions
 
     network_interface(iface)
     opts = BrainOptions(
@@ -162,18 +162,28 @@ def dds_control_cmd(
         calibrate=calibrate,
         cmd_topic=cmd_topic,
         diag_every=diag_every,
+        latency=latency,
     )
-    mode = "lockstep" if lockstep else "real time"
-    if cmd_topic:
-        _live_scenario(scenario)  # refused before the controller is built
+    _start_brain(opts, warm, as_json)
+
+
+def _start_brain(opts: BrainOptions, warm: bool, as_json: bool) -> None:
+    """Build the controller (a live scenario's commands checked first), warm up, run the brain, report."""
+    from gaitshift.dds.brain import build_controller, run_brain
+    from gaitshift.dds.warmup import warm_up
+
+    if opts.cmd_topic:
+        _live_scenario(opts.scenario)  # refused before the controller is built
     ctrl = build_controller(opts)
-    if cmd_topic:
-        _live_commands(ctrl, scenario)  # not a live plan: one line, exit 2, before any DDS traffic
+    if opts.cmd_topic:
+        _live_commands(ctrl, opts.scenario)  # not a live plan: one line, exit 2, before any DDS traffic
     if warm:
         # the throwaway re-plans inline: a worker of its own would only cost a process start
         typer.echo(f"warm-up: {warm_up(build_controller(replace(opts, replan='inline'))):.2f} s", err=True)
+    mode = "lockstep" if opts.lockstep else "real time"
     typer.echo(
-        f"{scenario} on DDS domain {domain} over {iface} ({mode}): waiting up to {state_timeout:g} s for rt/lowstate",
+        f"{opts.scenario} on DDS domain {opts.domain} over {opts.iface} ({mode}): waiting up to "
+        f"{opts.state_timeout:g} s for rt/lowstate",
         err=True,
     )
     s = run_brain(opts, ctrl=ctrl, say=lambda line: typer.echo(line, err=True))

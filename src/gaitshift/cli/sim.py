@@ -60,8 +60,7 @@ def simulate_cmd(
     contact: str | None = typer.Option(
         None,
         "--contact",
-        help="Contact sensing: torque (from the motors' torques) or force (sole force sensors); default: what"
-        " the robot YAML's sensors.foot_force says (torque for every shipped robot).",
+        help="Contact sensing: torque (motor torques) or force (sole sensors); default: the robot YAML's.",
     ),
     seed: int | None = typer.Option(None, "--seed", help="Seed of every random draw of the run (0)."),
     terrain: str | None = typer.Option(

@@ -52,7 +52,7 @@ from gaitshift.control.wbc_data import TickInfo, TickReference, gains_for
 from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig
 from gaitshift.robots.model import RobotModel, check_period, robot_model
-from gaitshift.trajectory.contract import Trajectory
+from gaitshift.trajectory.contract import OPEN_END, Trajectory
 
 __all__ = ["Controller", "TickRecord"]
 
@@ -203,8 +203,11 @@ class Controller:
         return max(0.0, t - self.settings.settle)
 
     def finished(self, t: float) -> bool:
-        """The plan has ended at time ``t`` s (half a period past its last sample)."""
-        return self.plan_time(t) > float(self.traj.t[-1]) + 0.5 * self.dt
+        """The plan has ended at time ``t`` s (half a period past its last sample), and it is the run's last:
+        a live plan's look-ahead (``meta["open_end"]``) that a re-plan off the tick has not yet continued
+        is not the end of the run (its last sample is held until the new plan comes)."""
+        over = self.plan_time(t) > float(self.traj.t[-1]) + 0.5 * self.dt
+        return over and not self.traj.meta.get(OPEN_END, False)
 
     @property
     def duration_bound(self) -> float:

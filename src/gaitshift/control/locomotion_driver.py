@@ -21,7 +21,7 @@ from gaitshift.planners.locomotion.generator import LocomotionGenerator
 from gaitshift.planners.locomotion.params import params_from_scenario
 from gaitshift.planners.locomotion.plan import script_of
 from gaitshift.scenario.facts import RobotFacts
-from gaitshift.trajectory.contract import DS, FLIGHT, Trajectory
+from gaitshift.trajectory.contract import DS, FLIGHT, OPEN_END, Trajectory
 
 __all__ = ["LOOKAHEAD_STEPS", "LocomotionDriver"]
 
@@ -103,7 +103,9 @@ class LocomotionDriver:
             fork.advance(round(0.5 / fork.dt))
         else:
             fork.step()
-        return fork.trajectory()
+        traj = fork.trajectory()
+        traj.meta[OPEN_END] = not fork.finished  # a look-ahead that a later plan continues
+        return traj
 
     def _extend(self, idx: int) -> Trajectory | None:
         """Refresh the look-ahead when the live generator has planned a new step (the plan the loop

@@ -68,9 +68,11 @@ PASSIVE_TAU = 1.0
 
 
 def build_controller(opts: BrainOptions) -> Controller:
-    """The controller of ``opts.scenario`` on ``opts.robot`` with ``contact=opts.contact`` and
-    ``replan=opts.replan``; its motors must be the hg slots in order (the G1)."""
-    ctrl = Controller.from_scenario(opts.scenario, opts.robot, contact=opts.contact, replan=opts.replan)
+    """The controller of ``opts.scenario`` on ``opts.robot`` with ``contact=opts.contact``,
+    ``replan=opts.replan`` and ``latency=opts.latency``; its motors must be the hg slots in order (the G1)."""
+    ctrl = Controller.from_scenario(
+        opts.scenario, opts.robot, contact=opts.contact, replan=opts.replan, latency=opts.latency
+    )
     check_motor_order(ctrl.motor_names)
     return ctrl
 

@@ -8,6 +8,7 @@ from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.dds.safety import check_settings
 from gaitshift.dds.transport import check_domain
 from gaitshift.errors import InputError, number_in
+from gaitshift.scenario.sim_settings import LATENCY_RANGE
 
 __all__ = ["BrainOptions", "BrainSummary"]
 
@@ -30,6 +31,8 @@ class BrainOptions:
         calibrate: feed the hold's gyro readings to ``Controller.calibrate`` (False: the hold only).
         cmd_topic: take live velocity commands from ``rt/gaitshift/cmd_vel`` (:mod:`gaitshift.dds.cmdvel`).
         diag_every: write the state estimate on ``rt/gaitshift/estimate`` every this many ticks (0: never).
+        latency: ticks from a state's taking to its command acting, which the controller predicts across
+            (``ControllerSettings.latency``: the link's delay and the motors' own).
     """
 
     scenario: str
@@ -51,6 +54,7 @@ class BrainOptions:
     calibrate: bool = True
     cmd_topic: bool = False
     diag_every: int = 1
+    latency: int = 0
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
@@ -62,6 +66,9 @@ class BrainOptions:
         if self.replan not in REPLAN_MODES:
             raise InputError("--replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
         number_in("--hold", self.hold, (0.0, 60.0), "s")
+        if isinstance(self.latency, bool) or not isinstance(self.latency, int):
+            raise InputError("--latency", self.latency, "an integer number of ticks")
+        number_in("--latency", self.latency, LATENCY_RANGE, "ticks")
         if isinstance(self.diag_every, bool) or not isinstance(self.diag_every, int) or self.diag_every < 0:
             raise InputError("--diag-every", self.diag_every, "an integer >= 0 (0: no diagnostics)")
 

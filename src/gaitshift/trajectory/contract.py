@@ -25,7 +25,8 @@ Value rules: every float is finite except the NaN sentinels named above (``zmp``
 in flight, ``command_vel`` and ``command_yaw_rate`` anywhere); no value exceeds :data:`MAX_ABS` in
 magnitude. ``meta`` holds
 ``planner`` (a name), ``gravity`` (m/s^2, > 0) and ``foot_size`` ([length, width] of the sole, m,
-each in :data:`FOOT_SIZE_RANGE`), and only finite JSON numbers.
+each in :data:`FOOT_SIZE_RANGE`), and only finite JSON numbers; a live plan's look-ahead adds
+:data:`OPEN_END` (true: the run goes on past its last sample, a later plan continues it).
 
 Planners may add keys (``extras``: numeric arrays, NaN allowed), never change these; ``boundary_t``
 (phase boundary times, s), when present, is finite. Files are written atomically as ``.npz``,
@@ -59,6 +60,8 @@ FEET_DOWN = (2, 1, 0)
 MAX_ABS = 1e6
 #: allowed sampling step, s
 DT_RANGE = (1e-6, 1.0)
+#: ``meta`` key of a live plan's look-ahead: true when the run goes on past its last sample
+OPEN_END = "open_end"
 #: allowed sole length and width in ``meta.foot_size``, m
 FOOT_SIZE_RANGE = (1e-3, 10.0)
 
