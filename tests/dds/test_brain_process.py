@@ -23,19 +23,12 @@ from gaitshift.dds.transport import open_endpoint
 BASE_DOMAIN = 100 + os.getpid() % 90 + 30
 
 
-def start_pair(tmp_path, domain, *extra):
+def start_pair(tmp_path, domain, *extra, link=()):
+    """The robot process (with the ``link`` fault flags) and the brain (with ``extra`` flags) on ``domain``."""
     (tmp_path / "tiny.yaml").write_text(TINY)
+    summary = str(tmp_path / "robot.json")
     robot = gaitshift(
-        tmp_path,
-        "robot",
-        "dds",
-        "robot",
-        "g1",
-        "--domain",
-        str(domain),
-        "--lockstep",
-        "--summary",
-        str(tmp_path / "robot.json"),
+        tmp_path, "robot", "dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--summary", summary, *link
     )
     brain = gaitshift(
         tmp_path,
@@ -100,22 +93,7 @@ def test_a_lossy_late_link_still_walks_the_plan(tmp_path):
     the brain dropped for its CRC, and the delays are the asked ones in ticks."""
     domain = BASE_DOMAIN + 3
     faults = ["--drop", "0.05", "--corrupt", "0.01", "--delay-ms", "4", "--jitter-ms", "1", "--seed", "2"]
-    (tmp_path / "tiny.yaml").write_text(TINY)
-    summary = str(tmp_path / "robot.json")
-    robot = gaitshift(
-        tmp_path, "robot", "dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--summary", summary, *faults
-    )
-    brain = gaitshift(
-        tmp_path,
-        "brain",
-        "dds",
-        "control",
-        str(tmp_path / "tiny.yaml"),
-        "--domain",
-        str(domain),
-        "--json",
-        *BRAIN_FLAGS,
-    )
+    robot, brain = start_pair(tmp_path, domain, link=faults)
     try:
         finish(*brain, timeout=240.0)
     finally:
