@@ -52,7 +52,7 @@ def dds_robot_cmd(
     corrupt: float = typer.Option(0.0, "--corrupt", help="Link fault: probability of a state with a bad CRC."),
     delay_ms: float = typer.Option(0.0, "--delay-ms", help="Link fault: ms added to every state (at 2 ms ticks)."),
     jitter_ms: float = typer.Option(0.0, "--jitter-ms", help="Link fault: ms, uniform spread of the delay."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the link's faults."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the sensor noise and the link's faults."),
     world: str | None = typer.Option(
         None, "--world", help="Scenario (name or YAML) whose terrain and floor friction build the world (flat)."
     ),

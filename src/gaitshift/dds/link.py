@@ -39,7 +39,7 @@ class LinkFaults:
         corrupt: probability that a state is written with a wrong CRC, in [0, 1).
         delay: s added to every state, >= 0.
         jitter: s, half width of the uniform spread of the delay, <= delay.
-        seed: the link's own random seed.
+        seed: the run's random seed: the link's faults, and the robot process's sensor noise (another stream).
     """
 
     drop: float = 0.0

@@ -164,7 +164,7 @@ class _Robot:
         plant = with_floor_friction(build_plant(opts.control_period, opts.robot, ground), friction)
         self.n = check_motor_order(plant.motor_names)
         qpos0 = standing_qpos(plant)
-        sim = SimOptions(control_period=opts.control_period, noise=opts.noise)
+        sim = SimOptions(control_period=opts.control_period, noise=opts.noise, seed=opts.faults.seed)
         self.world = World(plant, qpos0, sim, False, 1, depth_camera=False)  # LowState_ carries no depth
         self.world.on_ground(ground)
         self.dt = self.world.dt
