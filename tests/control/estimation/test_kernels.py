@@ -15,6 +15,8 @@
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 import pytest
@@ -77,18 +79,19 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
     for _ in range(4000):
         normal = rng.uniform(-3.0, 14.0, 2)
         heights = rng.uniform(-1.5e-3, 3.0e-3, 2)  # in and out of the ground band (0.8 mm), and lifted (2 mm)
-        vz = rng.uniform(-0.08, 0.08, 2)
-        speed = np.abs(vz) + rng.uniform(0.0, 1.3, 2)  # below and above the swing speed (1 m/s)
+        vel = np.zeros((2, 3))
+        vel[:, 2] = vz = rng.uniform(-0.08, 0.08, 2)
+        vel[:, 0] = rng.uniform(0.0, 1.3, 2)  # below and above the swing speed (1 m/s)
+        speed = np.array([math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for v in vel])
         planned = rng.random(2) < 0.7 if with_plan else None
         flags = det.update_values(normal.tolist())
         det.release(fusion.veto)
         flags = (flags[0] and not fusion.veto[0], flags[1] and not fusion.veto[1])
         fused = fusion.update_values(normal.tolist(), heights.tolist(), vz.tolist(), planned, speed.tolist())
         kernels.force_means(normal, recent, ist, means)
-        kernels.force_trigger(means, det.on_force, det.off_force, debounce, ist)
-        kernels.release(ist)
+        kernels.force_trigger(means, det.on_force, det.off_force, debounce, ist)  # the veto's release included
         plan = -1 if planned is None else int(planned[0]) | int(planned[1]) << 1
-        kernels.fuse_contact(normal, means, heights, vz, speed, plan, par, ist, fst)
+        kernels.fuse_contact(normal, means, heights, vel, plan, par, ist, fst)
         assert tuple(ist[kernels.I_STANCE : kernels.I_STANCE + 2]) == flags
         assert tuple(ist[kernels.I_FUSED : kernels.I_FUSED + 2]) == tuple(fused)
         assert fst[kernels.F_GROUND] == pytest.approx(

@@ -30,9 +30,9 @@ import numba
 import numpy as np
 
 # ist: int64 state
-I_STANCE, I_COUNT, I_FILLED, I_FUSED, I_MOVING = 0, 2, 4, 6, 8  # two entries each (left, right)
-I_STARTED = 10  # the joint filter has started
-I_VETO = 11  # (2,) the kinematics ruled a load out at the last tick (contact_fusion.py's veto)
+# two entries each (left, right); I_VETO: the kinematics ruled a load out at the last tick (contact_fusion.py)
+I_STANCE, I_COUNT, I_FILLED, I_FUSED, I_MOVING, I_VETO = 0, 2, 4, 6, 8, 10
+I_STARTED = 12  # the joint filter has started
 IST_SIZE = 13
 # fst: float64 state
 F_CUSUM, F_VEL_LP, F_SPEED, F_GROUND = 0, 2, 6, 8  # cusum (2), vel_lp (2 x 2), speed (2), ground (NaN: none)
@@ -136,8 +136,9 @@ def force_means(normal: np.ndarray, recent: np.ndarray, ist: np.ndarray, means: 
 
 @numba.njit(cache=True)
 def force_trigger(means: np.ndarray, on: float, off: float, debounce: int, ist: np.ndarray) -> None:
-    """The Schmitt trigger with debounce of contact.py on the mean forces ``means`` (2,) N: a sole flips
-    after ``debounce`` consecutive ticks past its threshold (on: ``f > on``, off: ``f < off``)."""
+    """The Schmitt trigger with debounce of contact.py on the mean forces ``means`` (2,) N: a sole flips after
+    ``debounce`` consecutive ticks past its threshold (on: ``f > on``, off: ``f < off``); a sole the last tick's
+    kinematics ruled out (``ist[I_VETO]``) is then off, its debounce cleared (ContactDetector.release)."""
     for i in range(2):
         state = ist[I_STANCE + i] != 0
         crossing = means[i] < off if state else means[i] > on
@@ -145,17 +146,9 @@ def force_trigger(means: np.ndarray, on: float, off: float, debounce: int, ist: 
         if count >= debounce:
             ist[I_STANCE + i] = 0 if state else 1
             count = 0
-        ist[I_COUNT + i] = count
-
-
-@numba.njit(cache=True)
-def release(ist: np.ndarray) -> None:
-    """The force trigger's flag off, its debounce cleared, for each sole the last tick's kinematics
-    ruled out (``ist[I_VETO]``; ContactDetector.release)."""
-    for i in range(2):
         if ist[I_VETO + i] != 0:
-            ist[I_STANCE + i] = 0
-            ist[I_COUNT + i] = 0
+            ist[I_STANCE + i] = count = 0
+        ist[I_COUNT + i] = count
 
 
 @numba.njit(cache=True)
@@ -300,12 +293,12 @@ def lowest_heights(
 
 @numba.njit(cache=True)
 def fuse_contact(
-    normal: np.ndarray, means: np.ndarray, heights: np.ndarray, vz: np.ndarray, speed: np.ndarray,
-    planned: int, par: np.ndarray, ist: np.ndarray, fst: np.ndarray,
+    normal: np.ndarray, means: np.ndarray, heights: np.ndarray, vel: np.ndarray, planned: int,
+    par: np.ndarray, ist: np.ndarray, fst: np.ndarray,
 ) -> None:  # fmt: skip
     """The rules of contact_fusion.py: per sole, force mean ``means``, latest sample ``normal`` (N),
     lowest-point height ``heights`` (m) against the ground level ``fst[F_GROUND]`` (NaN: none yet),
-    vertical speed ``vz`` and world speed ``speed`` of its centre (m/s), the plan's flags ``planned``
+    world velocity ``vel`` (2, 3) of its centre (m/s: ``vz``, the speed), the plan's flags ``planned``
     (bits 0, 1; -1: no plan); ``par`` = [on, off, cusum gain, cusum half shift, near, still, cusum
     threshold, lift, swing speed]. Updates the flags ``ist[I_FUSED]`` and ``ist[I_VETO]``, the CUSUMs,
     the ground level (the sole(s) on with ``f > on``) and the soles' stands (those of them still)."""
@@ -317,10 +310,10 @@ def fuse_contact(
         plan = (not has_plan) or (planned >> i) & 1 == 1
         f, mean = normal[i], means[i]
         near = abs(heights[i] - ground) < near_h  # False while the ground level is NaN
-        rest = near and -still < vz[i] < still
-        lifted = heights[i] - fst[F_STAND + i] > lift and vz[i] > still  # NaN: False
-        veto = has_plan and not plan and (lifted or speed[i] > swing)
-        ist[I_VETO + i] = int(veto)
+        vz, speed = vel[i, 2], math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+        rest = near and -still < vz < still
+        lifted = heights[i] - fst[F_STAND + i] > lift and vz > still  # NaN: False
+        veto = ist[I_VETO + i] = has_plan and not plan and (lifted or speed > swing)
         if veto:
             on = False
             fst[F_CUSUM + i] = 0.0
@@ -337,9 +330,9 @@ def fuse_contact(
         ist[I_FUSED + i] = int(on)
     loaded_l = ist[I_FUSED] != 0 and normal[0] > on_f
     loaded_r = ist[I_FUSED + 1] != 0 and normal[1] > on_f
-    if loaded_l and -still < vz[0] < still:
+    if loaded_l and -still < vel[0, 2] < still:
         fst[F_STAND] = heights[0]
-    if loaded_r and -still < vz[1] < still:
+    if loaded_r and -still < vel[1, 2] < still:
         fst[F_STAND + 1] = heights[1]
     if loaded_l and loaded_r:
         fst[F_GROUND] = (heights[0] + heights[1]) / 2
@@ -358,7 +351,6 @@ def sense(
     reading when not reset), the filtered q, qd into ``out[0:2 nj]``, ``qpos[7:]`` and ``qvel[6:]``."""
     force_means(normal, recent, ist, means)
     force_trigger(means, trigger[0], trigger[1], int(trigger[2]), ist)
-    release(ist)
     nj = q.shape[0]
     if ist[I_STARTED] == 0:
         x[0, :] = q
@@ -399,10 +391,7 @@ def settle(
     need = slip_lowpass(stance, xv, omega, out[nj : 2 * nj], par[2], par[3], fst, ist, rates_lp)
     heights = lowest_heights(rot9, site_xmat, kin_idx, pts, xv)
     plan = int(planned[0] != 0) | int(planned[1] != 0) << 1 if has_plan else -1
-    speed = np.empty(2)
-    for i in range(2):
-        speed[i] = math.sqrt(xv[4 + i, 0] ** 2 + xv[4 + i, 1] ** 2 + xv[4 + i, 2] ** 2)
-    fuse_contact(normal, means, heights, xv[4:6, 2], speed, plan, par[4:], ist, fst)
+    fuse_contact(normal, means, heights, xv[4:6], plan, par[4:], ist, fst)
     o = 2 * nj + 24
     mat_to_quat(out[o : o + 4], rot9)
     for r in range(3):
