@@ -131,8 +131,8 @@ class ContactFusion:
         """One tick: normal forces (2,) N, lowest-point heights (2,) m, vertical speeds (2,) m/s and
         world speeds (2,) m/s (None: ``|vz|``) of the soles (estimate, world frame), the plan's contact
         flags (2,) or None; the flags (2,) bool, a shared read-only array."""
-        speeds = np.abs(vz) if speed is None else speed
-        return self.update_values(force.tolist(), height.tolist(), vz.tolist(), planned, speeds.tolist())
+        speeds = None if speed is None else speed.tolist()
+        return self.update_values(force.tolist(), height.tolist(), vz.tolist(), planned, speeds)
 
     def update_values(
         self,
