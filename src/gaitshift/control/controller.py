@@ -132,6 +132,7 @@ class Controller:
             s.latency,
             s.assumed_friction,
             contact_source(s.contact, robot.robot),
+            s.floor,
         )
         self.record: TickRecord | None = None
         cam = robot.robot.sensors.depth_camera
@@ -151,11 +152,16 @@ class Controller:
         ``robot`` (default: the scenario's, else g1), acting on ``state`` ("estimated", "oracle";
         None: the scenario's ``sim: state``, else estimated: every robot has an IMU, its YAML's
         ``sensors.imu``).
-        ``settings`` are :class:`ControllerSettings` keys, and ``control_period`` (s, 0.002)."""
+        ``settings`` are :class:`ControllerSettings` keys, and ``control_period`` (s, 0.002). A scenario
+        without ``terrain`` and ``bumps`` is on the flat floor, which the controller then knows (``floor``
+        = 0) unless its ``sim: known_floor`` is false or ``floor=None`` is passed."""
         period = settings.pop("control_period", 0.002)
         sc, cfg, driver, plan = prepare(scenario, robot, check_period(period))
         model = robot_model(cfg, period)
-        given = {k: v for k, v in sc.sim.given().items() if k in _SCENARIO_KEYS} if hasattr(sc, "sim") else {}
+        sim = sc.sim.given() if hasattr(sc, "sim") else {}
+        given = {k: v for k, v in sim.items() if k in _SCENARIO_KEYS}
+        if sim.get("known_floor", True) and not getattr(sc, "terrain", ()) and not sim.get("bumps"):
+            given["floor"] = 0.0  # the scenario's world is the flat floor, and it says so
         if state is not None:
             given["state"] = state
         cs = ControllerSettings.of(**(given | settings))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields
 from typing import Any
 
@@ -47,6 +48,9 @@ class ControllerSettings:
         replan: where a plan driver re-plans (:mod:`gaitshift.control.replanner`): ``"inline"`` (in the
             tick: deterministic), ``"thread"`` or ``"process"`` (a background worker; the tick never waits
             for a re-plan, the new plan is tracked from the tick that finds it done).
+        floor: the height, m, of a flat floor the controller knows the robot stands on (the height of a
+            flat stance sole is then a measurement of its estimator,
+            :mod:`~gaitshift.control.estimation.floor`); None: no such floor is known.
     """
 
     gains: Gains | None = None
@@ -62,6 +66,7 @@ class ControllerSettings:
     latency: int = 0
     contact: str | None = None
     replan: str = "inline"
+    floor: float | None = None
 
     def __post_init__(self) -> None:
         if self.state is not None and self.state not in STATE_SOURCES:
@@ -78,6 +83,8 @@ class ControllerSettings:
         lat = self.latency
         if isinstance(lat, bool) or not isinstance(lat, int) or not LATENCY_RANGE[0] <= lat <= LATENCY_RANGE[1]:
             raise InputError("latency", lat, f"an integer number of ticks in [{LATENCY_RANGE[0]}, {LATENCY_RANGE[1]}]")
+        if self.floor is not None and not (isinstance(self.floor, (int, float)) and math.isfinite(self.floor)):
+            raise InputError("floor", self.floor, "a finite height, m, or None")
         if self.replan not in REPLAN_MODES:
             raise InputError("replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
 

@@ -54,6 +54,7 @@ import numpy as np
 
 from gaitshift.control.estimation import GyroCalibration, StateEstimator
 from gaitshift.control.estimation.contact import noise_thresholds
+from gaitshift.control.estimation.inekf import InvariantEKF
 from gaitshift.control.estimation.noise import NoiseProfile
 from gaitshift.control.estimation.torque_contact import AccelerationWindow, TorqueContact
 from gaitshift.control.estimation.tuning import FilterTuning
@@ -183,6 +184,8 @@ class ControllerState:
         contact: where the sole forces of the contact detector come from: ``"force"`` (the frame's
             ``foot_force``) or ``"torque"`` (the motors' torques,
             :mod:`~gaitshift.control.estimation.torque_contact`).
+        floor: the height, m, of a flat floor known under the robot (a measurement of the estimator,
+            :mod:`~gaitshift.control.estimation.floor`); None: unknown.
     """
 
     def __init__(
@@ -195,6 +198,7 @@ class ControllerState:
         latency: int,
         assumed_friction: float | None,
         contact: str = "torque",
+        floor: float | None = None,
     ) -> None:
         m = robot.model
         self.robot, self.oracle = robot, oracle
@@ -230,6 +234,8 @@ class ControllerState:
             debounce=1,
             contact_window=CONTACT_WINDOW,
         )
+        if isinstance(self.estimator.filter, InvariantEKF):
+            self.estimator.filter.floor = floor
         self.gyro_bias_walk = profile.gyro_bias_walk
         self._calibration: GyroCalibration | None = None
         self.start = self.qpos0  # the start state the estimator began from (the first frame's)

@@ -15,6 +15,7 @@ Perturbations (issue 13; the controller is never told them)::
       pushes: [{t: 2.0, impulse: [0, 15, 0], duration: 0.1}]   # N s, world frame, from plan time t
       bumps: [{x: 1.5, height: 0.03, length: 0.2}]             # m, box on the floor from x
       terrain: blind             # the planner is not told the scenario's terrain (TERRAIN_KNOWLEDGE)
+      known_floor: false         # the controller is not told that a world without terrain is flat
 
 The allowed values live here (the lowest layer) and the simulator checks its options against them.
 """
@@ -109,6 +110,7 @@ class SimSettings(StrictModel):
     bumps: list[BumpSettings] | None = None
     contact: Literal["force", "torque"] | None = None
     terrain: Literal["known", "blind", "perceived"] | None = None
+    known_floor: Annotated[bool, Strict()] | None = None
 
     def given(self) -> dict[str, Any]:
         """The keys set in the scenario, as ``SimOptions`` keyword arguments (``pushes`` and ``bumps``

@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -106,6 +106,8 @@ class SimOptions:
             None (the default): what the robot YAML's ``sensors.foot_force`` says the real robot has
             (:func:`gaitshift.control.settings.contact_source`): torques for every shipped robot, whose
             real soles carry no force sensors (docs/robots.md, "On the estimate": what holds on torques).
+        known_floor: the controller is told that a world without terrain and bumps is the flat floor
+            at z = 0 (:attr:`gaitshift.control.settings.ControllerSettings.floor`); False: it is not.
 
     The actuation delay is ``latency``: one setting for the sensing-to-actuation delay of the loop
     (:mod:`gaitshift.sim.latency`), not a second one.
@@ -138,6 +140,7 @@ class SimOptions:
     joint_vel_noise: float = 0.0
     bumps: tuple[Bump, ...] = ()
     contact: str | None = None
+    known_floor: bool = True
 
     def __post_init__(self) -> None:
         self.controller_settings()  # the controller's keys, checked
@@ -309,7 +312,10 @@ def simulate(
         traj = driver.trajectory
     terrain = ground if ground is not None else Terrain.from_list(traj.meta.get("terrain"))  # the world's ground
     plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain, opts.bumps), opts.friction)
-    ctrl = Controller(traj, robot_model(plant.robot, plant.dt), opts.controller_settings(), driver)
+    settings = opts.controller_settings()
+    if opts.known_floor and terrain.flat and not opts.bumps:  # the world is the flat floor, and the controller knows it
+        settings = replace(settings, floor=0.0)
+    ctrl = Controller(traj, robot_model(plant.robot, plant.dt), settings, driver)
     n_ticks = round(ctrl.duration_bound / plant.dt) + 1
     world = World(plant, ctrl.initial_qpos(), opts, ctrl.source == "oracle", n_ticks)
     world.on_ground(terrain)

@@ -31,6 +31,9 @@ A foot that touches down joins with ``d = p + R y`` and ``P_d* = P_p*``, ``P_dd 
 (Hartley 2018, §VI-D); a foot that lifts off stops being measured (its rows no longer matter, which
 equals marginalising it). The state keeps a fixed size (21) so no array is reallocated per tick.
 
+A known flat floor (``floor``, m) adds the height of each flat stance sole as a measurement, after the
+foot corrections of the same tick (:mod:`gaitshift.control.estimation.floor`).
+
 Multi-rate: the mean follows the IMU every tick; the covariance is propagated with ``dt`` replaced by
 ``Delta = correct_every dt`` (linearised at the state of the correcting tick), and the corrections and
 contact changes happen on those ticks only (``FilterTuning.correct_every``, docs/estimation.md).
@@ -71,6 +74,7 @@ import numpy as np
 from scipy.linalg.lapack import dposv
 
 from gaitshift.control.estimation.calibration import GyroCalibration
+from gaitshift.control.estimation.floor import floor_correction
 from gaitshift.control.estimation.inekf_terms import CorrectionPattern, diagonal_view, move_origin
 from gaitshift.control.estimation.lie import SKEW, exp_blocks, log_rot, quat_exp, quat_of_mat
 from gaitshift.control.estimation.tuning import FilterTuning
@@ -153,6 +157,8 @@ class InvariantEKF:
         self._dquat = np.empty(4)
         self._zdquat = np.empty(4)
         self._noise_of: np.ndarray | None = None  # the variance array the cached noise came from
+        #: the height, m, of a flat floor known under the stance soles (:mod:`~gaitshift.control.estimation.floor`)
+        self.floor: float | None = None
         keys = ((True, False), (False, True), (True, True))
         self._patterns = {key: CorrectionPattern(key, nx, self.flat_feet) for key in keys}
         self.reset(np.eye(3), np.zeros(3))
@@ -262,6 +268,8 @@ class InvariantEKF:
         measured = (left and was[0], right and was[1])
         if measured[0] or measured[1]:
             self._correct(feet, self._patterns[measured])
+            if self.floor is not None:  # a known flat floor (estimation.floor)
+                self._on_floor(feet, measured)
         if (left and not was[0]) or (right and not was[1]):
             self._add_contacts(feet, (left and not was[0], right and not was[1]))
         self._in_state = [left, right]
@@ -327,6 +335,16 @@ class InvariantEKF:
             return
         cov -= pht.dot(kt)
         self._apply(z.dot(kt))
+
+    def _on_floor(self, feet: FootKinematics, measured: tuple[bool, bool]) -> None:
+        """Eq. (2) of :mod:`~gaitshift.control.estimation.floor` for the flat stance soles."""
+        assert self.floor is not None
+        normal_z = self.rot[2].dot(feet.rot[:, :, 2].T)  # e_z^T R R_f e_z per sole
+        delta = floor_correction(
+            self.cov, self._vec[2:4], float(self._origin[2]), self.floor, self.tuning.floor_std**2, normal_z, measured
+        )
+        if delta is not None:
+            self._apply(delta)
 
     def _apply(self, delta: np.ndarray) -> None:
         """``X <- Exp(delta[:15]) X``, ``Z_i <- Exp(delta_Zi) Z_i``, ``theta <- theta + delta[ib:]``::

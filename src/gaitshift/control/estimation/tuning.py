@@ -30,6 +30,8 @@ class FilterTuning:
         joint_accel_density: white joint acceleration of the joint filter's model, rad/s^2/sqrt(Hz).
         contact_density: velocity random walk of a stance foot (rolling, small slip), m/s/sqrt(Hz).
         foot_floor: std of the sole position beyond encoder noise (sole rolling, link flex), m.
+        floor_std: std of a flat stance sole's height above a known floor (contact compliance), m
+            (:mod:`gaitshift.control.estimation.floor`).
         contact_rot_density: orientation random walk of a stance sole (flat feet), rad/sqrt(s).
         foot_rot_floor: std of the sole orientation beyond encoder noise (flat feet), rad.
         init_tilt_std, init_yaw_std: prior std of roll/pitch and yaw at reset, rad.
@@ -52,6 +54,7 @@ class FilterTuning:
     joint_accel_density: float = 10.0
     contact_density: float = 0.01
     foot_floor: float = 0.002
+    floor_std: float = 0.002
     contact_rot_density: float = 0.01
     foot_rot_floor: float = 0.01
     init_tilt_std: float = 0.02
@@ -69,7 +72,7 @@ class FilterTuning:
                 raise InputError(f"tuning.{name}", value, "a finite number >= 0")
         if int(self.correct_every) != self.correct_every or self.correct_every < 1:
             raise InputError("tuning.correct_every", self.correct_every, "an integer >= 1 (ticks)")
-        for name in ("attitude_tau", "bias_tau", "velocity_tau", "foot_floor", "foot_rot_floor"):
+        for name in ("attitude_tau", "bias_tau", "velocity_tau", "foot_floor", "floor_std", "foot_rot_floor"):
             if getattr(self, name) <= 0.0:
                 raise InputError(f"tuning.{name}", getattr(self, name), "a number > 0")
 
