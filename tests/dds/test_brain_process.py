@@ -179,3 +179,12 @@ def test_a_bad_flag_or_domain_0_without_the_real_robot_flag_is_one_line_and_exit
     real robot's, needs --real-robot)."""
     code, _, err = cli(["dds", "control", "g1-walk", *flags])
     assert code == 2 and err.startswith(f"gaitshift: error: {name} = ") and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(("known", "floor"), [(True, 0.0), (False, None)])
+def test_the_brain_tells_its_estimator_the_flat_floor_unless_told_it_is_unknown(known, floor):
+    from gaitshift.dds.brain import BrainOptions, build_controller
+
+    ctrl = build_controller(BrainOptions("g1-walk", known_floor=known, replan="inline"))
+    assert ctrl.state.estimator is not None
+    assert ctrl.state.estimator.filter.floor == floor

@@ -135,6 +135,11 @@ def dds_control_cmd(
         1, "--diag-every", help="Write the state estimate on rt/gaitshift/estimate every N ticks (0: never)."
     ),
     latency: int = typer.Option(0, "--latency", help="Ticks from a state to its command acting: predicted."),
+    known_floor: bool = typer.Option(
+        True,
+        "--known-floor/--unknown-floor",
+        help="The robot stands on a flat floor (a scenario without terrain): its height corrects the estimate.",
+    ),
 ) -> None:
     """Run SCENARIO's controller over the protocol: rt/lowstate in, rt/lowcmd out, behind the safety
     machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Exit 0 when the plan
@@ -163,6 +168,7 @@ def dds_control_cmd(
         cmd_topic=cmd_topic,
         diag_every=diag_every,
         latency=latency,
+        known_floor=known_floor,
     )
     _start_brain(opts, warm, as_json)
 

@@ -33,6 +33,8 @@ class BrainOptions:
         diag_every: write the state estimate on ``rt/gaitshift/estimate`` every this many ticks (0: never).
         latency: ticks from a state's taking to its command acting, which the controller predicts across
             (``ControllerSettings.latency``: the link's delay and the motors' own).
+        known_floor: the robot stands on a flat floor, whose height the estimator then takes as a
+            measurement when the scenario has no terrain (``ControllerSettings.floor``); False: never.
     """
 
     scenario: str
@@ -55,6 +57,7 @@ class BrainOptions:
     cmd_topic: bool = False
     diag_every: int = 1
     latency: int = 0
+    known_floor: bool = True
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
@@ -69,6 +72,8 @@ class BrainOptions:
         if isinstance(self.latency, bool) or not isinstance(self.latency, int):
             raise InputError("--latency", self.latency, "an integer number of ticks")
         number_in("--latency", self.latency, LATENCY_RANGE, "ticks")
+        if not isinstance(self.known_floor, bool):
+            raise InputError("--known-floor", self.known_floor, "true or false")
         if isinstance(self.diag_every, bool) or not isinstance(self.diag_every, int) or self.diag_every < 0:
             raise InputError("--diag-every", self.diag_every, "an integer >= 0 (0: no diagnostics)")
 
