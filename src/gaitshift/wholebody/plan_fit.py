@@ -51,6 +51,8 @@ class PlanFit:
             below; a pivoting heel must rise); ground_clearance_time_s: when.
         swing_clearance_m: the same for the soles in the air (None without swings), reported only (the
             soft swing pitch, not a freedom of the plan's contacts); swing_clearance_time_s: when.
+        flight_reach_samples: flight samples solved with the soles' poses soft (a sole out of reach,
+            ``IKSettings.flight_reach_cost``); flight_reach_error_m: the largest sole-centre error there.
     """
 
     com_error_m: float
@@ -64,6 +66,8 @@ class PlanFit:
     ground_clearance_time_s: float
     swing_clearance_m: float | None = None
     swing_clearance_time_s: float | None = None
+    flight_reach_samples: int = 0
+    flight_reach_error_m: float = 0.0
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready fields."""
@@ -94,6 +98,18 @@ def _corners(pos: np.ndarray, rot: np.ndarray, size: tuple[float, float]) -> np.
     return out
 
 
+def toe_off_margins(traj: Any, targets: np.ndarray, trailing: np.ndarray, sole_size: tuple[float, float]) -> np.ndarray:
+    """Margin (N,) m of the plan's ZMP inside the support a toe-off of the ``trailing`` (N, 2) sole would
+    leave: the convex hull of its toe edge and the other sole's rectangle, both where the plan puts them
+    (centres ``traj.foot_pos``, rotations ``targets`` (N, 2, 3, 3)); +inf where no sole trails."""
+    corners = _corners(np.asarray(traj.foot_pos), targets, sole_size)  # (N, 2, 4, 3)
+    out = np.full(len(targets), np.inf)
+    for k in np.flatnonzero(trailing.any(axis=1)):
+        pts = [corners[k, s, :2, :2] if trailing[k, s] else corners[k, s, :, :2] for s in (0, 1)]
+        out[k] = hull_margin(np.concatenate(pts), traj.zmp[k, :2])
+    return out
+
+
 def plan_fit(
     traj: Any,
     model: Any,
@@ -102,9 +118,11 @@ def plan_fit(
     targets: np.ndarray,
     sole_size: tuple[float, float],
     rot_tol: float,
+    reached: np.ndarray | None = None,
 ) -> PlanFit:
     """The :class:`PlanFit` of the motion ``qpos`` (N, nq) solving the plan ``traj`` (N samples), whose
-    sole target rotations were ``targets`` (N, 2, 3, 3), for soles of ``sole_size`` (length, width) m."""
+    sole target rotations were ``targets`` (N, 2, 3, 3), for soles of ``sole_size`` (length, width) m;
+    ``reached`` (N,) bool: the flight samples solved with soft sole poses (default none)."""
     pos, rot, com = sole_frames(model, sites, qpos)
     contact = traj.contact.astype(bool)
     normal_dot = np.einsum("nsi,nsi->ns", rot[..., :, 2], targets[..., :, 2])
@@ -119,6 +137,7 @@ def plan_fit(
     kc = int(np.argmin(clear))
     swing = np.where(contact, np.inf, clear_each).min(axis=1)
     ks = int(np.argmin(swing))
+    reach = np.zeros(len(qpos), bool) if reached is None else np.asarray(reached, bool)
     margin, k_margin = None, None
     for k in np.flatnonzero(pivot.any(axis=1)):
         pts = [corners[k, s, :2, :2] if pivot[k, s] else corners[k, s, :, :2] for s in (0, 1) if contact[k, s]]
@@ -137,6 +156,8 @@ def plan_fit(
         ground_clearance_time_s=float(traj.t[kc]),
         swing_clearance_m=float(swing[ks]) if np.isfinite(swing[ks]) else None,
         swing_clearance_time_s=float(traj.t[ks]) if np.isfinite(swing[ks]) else None,
+        flight_reach_samples=int(reach.sum()),
+        flight_reach_error_m=float(sole_err[reach].max()) if reach.any() else 0.0,
     )
 
 
