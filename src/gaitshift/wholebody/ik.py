@@ -15,13 +15,20 @@ Reference motions (:data:`REFERENCE_SETTINGS`, what ``gaitshift export`` of a pl
 pelvis upright at the same yaw, every joint within its soft range (the robot YAML's
 ``limits.soft_joint_fraction``), leave a swing sole's pitch soft, lay the soles in contact on the
 plan's terrain and let the rear sole of a double support pivot about its toe (toe-off)
-(:mod:`gaitshift.wholebody.ik_tasks`); the solved motion is then checked against the plan's physics
-and its deviation reported (:mod:`gaitshift.wholebody.plan_fit`).
+(:mod:`gaitshift.wholebody.ik_tasks`) only where the plan's ZMP lies in the support that toe-off
+leaves; the solved motion is then checked against the plan's physics and its deviation reported
+(:mod:`gaitshift.wholebody.plan_fit`). They also keep every joint speed within its limit (the joint
+limits of sample k narrowed to q_{k-1} +- v_max dt), hold the heel of a pivoting sole above the ground
+(:mod:`gaitshift.wholebody.ik_ground`), and solve a flight sample whose soles are out of reach again
+with the soles' poses soft (only the CoM hard, every sole corner above the ground): in flight no sole
+carries a force, so where a sole goes changes neither the CoM's motion nor a contact
+(``IKSettings.flight_reach_cost``; the deviation is in the plan-fit report).
 Each Newton iteration is one mink QP (daqp through qpsolvers)::
 
     min_dq  sum_soft ||J_i dq + e_i||^2_{W_i} + damping ||dq||^2
     s.t.    J_h dq = -e_h                  (CoM and both soles, mink ``constraints``)
             q_min <= q + dq <= q_max       (mink ConfigurationLimit)
+            G dq <= h                      (sole corners above the ground, reference motions)
 
 The first guess at sample k is the constant-velocity extrapolation q_{k-1} ⊕ (q_{k-1} ⊖ q_{k-2}),
 so that one or two iterations usually suffice. q̇ comes from central differences of q on the
@@ -186,7 +193,7 @@ class WholeBodyIK:
         s = self.settings
         rots = self._set_targets(com, feet, yaw, np.zeros(2) if pitch is None else pitch)
         tasks = self.sole_sets.get(contact, (False, False) if pivot is None else pivot, reach)
-        limits = self.limits
+        limits: list[Any] = list(self.limits)
         if self.ground is not None:
             self.ground.hold((False, False) if pivot is None else pivot, reach)
             limits = [*self.limits, self.ground]

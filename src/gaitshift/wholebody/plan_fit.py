@@ -14,6 +14,8 @@ physical condition, checked here on the solved motion q_k (N samples):
   p_k lies in H: the margin ``min_e n_e . (p_k - a_e)`` over the hull's edges e (a_e a vertex, n_e
   the inward normal; the distance to the nearest edge inside, a lower bound of minus the distance
   outside) must be >= 0. No tolerance beyond 0: outside H the plan's CoM motion needs a tension.
+  The IK lets a sole pivot only where the same margin, of the soles where the plan puts them, is >= 0
+  (:func:`toe_off_margins`); elsewhere the rear sole stays flat and this check verifies the result.
 * **ground**: no corner of a sole in contact (centre +- L/2 along the sole's x, +- W/2 along its y)
   below the ground of the plan's terrain (``meta["terrain"]``) by more than ``pos_tol`` (the IK's own
   position tolerance): a pivoting heel must go up. The clearance of the soles in the air is reported
@@ -21,7 +23,8 @@ physical condition, checked here on the solved motion q_k (N samples):
   checked.
 
 The report (:class:`PlanFit`, in the IK's ``meta["ik"]["plan_fit"]``) also gives the largest CoM and
-contact-sole errors, so that an export states how closely its motion is the plan's.
+contact-sole errors and the flight samples solved with soft sole poses (a sole out of reach) with the
+largest sole error there, so that an export states how closely its motion is the plan's.
 """
 
 from __future__ import annotations
