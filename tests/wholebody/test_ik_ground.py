@@ -32,14 +32,14 @@ def standing():
 def test_flat_ground_rows_are_minus_the_corner_heights_jacobian(standing):
     robot, model, conf, sites = standing
     g = GroundLimit(model, sites, robot.sole_size, Terrain.from_list(None))
-    g.hold((False, False), False)
+    g.hold((False, False), (False, False))
     assert g.compute_qp_inequalities(conf, 1.0).inactive
-    g.hold((True, False), False)
+    g.hold((True, False), (False, False))
     G, h = g.compute_qp_inequalities(conf, 1.0)
     assert G.shape == (2, model.nv)  # the two heel corners of the left sole
     np.testing.assert_allclose(h, 0.01, atol=2e-4)  # the standing soles are flat to 0.2 mm
     np.testing.assert_allclose(G[:, 2], -1.0)  # the base's z moves every corner up one for one
-    g.hold((False, False), True)
+    g.hold((False, False), (True, True))
     assert g.compute_qp_inequalities(conf, 1.0).G.shape == (8, model.nv)
 
 
@@ -48,7 +48,7 @@ def test_on_a_ramp_the_row_follows_the_slope_and_h_the_height_above_it(standing)
     s = 0.2
     ramp = Terrain.from_list([[-5.0, 5.0, -5.0 * s, 5.0 * s]])
     g = GroundLimit(model, sites, robot.sole_size, ramp)
-    g.hold((False, False), True)
+    g.hold((False, False), (True, True))
     G, h = g.compute_qp_inequalities(conf, 1.0)
     corners = np.vstack([g.corners(conf.data, 0), g.corners(conf.data, 1)])
     np.testing.assert_allclose(h, corners[:, 2] - s * corners[:, 0], atol=1e-12)

@@ -18,8 +18,9 @@ plan's terrain and let the rear sole of a double support pivot about its toe (to
 (:mod:`gaitshift.wholebody.ik_tasks`) only where the plan's ZMP lies in the support that toe-off
 leaves; the solved motion is then checked against the plan's physics and its deviation reported
 (:mod:`gaitshift.wholebody.plan_fit`). They also keep every joint speed within its limit (the joint
-limits of sample k narrowed to q_{k-1} +- v_max dt), hold the heel of a pivoting sole above the ground
-(:mod:`gaitshift.wholebody.ik_ground`), and solve a flight sample whose soles are out of reach again
+limits of sample k narrowed to q_{k-1} +- v_max dt), hold the heel of a pivoting sole and every corner
+of a swing sole above the ground, a swing sole's centre rising above the plan's swing path where its
+toe needs it (:mod:`gaitshift.wholebody.ik_ground`), and solve a flight sample whose soles are out of reach again
 with the soles' poses soft (only the CoM hard, every sole corner above the ground): in flight no sole
 carries a force, so where a sole goes changes neither the CoM's motion nor a contact
 (``IKSettings.flight_reach_cost``; the deviation is in the plan-fit report).
@@ -120,11 +121,12 @@ class WholeBodyIK:
             f"{side} sole roll" for side, ok in zip(("left", "right"), self.robot.foot_roll, strict=True) if not ok
         ] + (["swing sole pitch"] if s.swing_pitch_cost is not None else [])
         self.dropped += ["trailing sole position and pitch (toe point held)"] if s.toe_off_cost is not None else []
+        self.dropped += ["swing sole height (soft; its corners above the ground)"] if s.swing_lift_cost else []
         toe = np.array([self.robot.sole_size[0] / 2, 0.0, 0.0])  # the toe edge's middle in the sole frame, m
         self.toe_points = [ToePoint(m, site, toe) for site in self.sites]
-        self.sole_sets = SoleTaskSets(
-            mink, self.sole_tasks, self.robot.foot_roll, s.swing_pitch_cost, self.toe_points, s.toe_off_cost
-        )
+        centres = [ToePoint(m, site, np.zeros(3)) for site in self.sites]
+        args = (self.robot.foot_roll, s.swing_pitch_cost, self.toe_points, s.toe_off_cost, centres, s.swing_lift_cost)
+        self.sole_sets = SoleTaskSets(mink, self.sole_tasks, *args)
         if s.flight_reach_cost is not None:
             self.sole_sets.reaching(mink, s.flight_reach_cost)
         self.soft_base: list[Any] = [self.torso_task, self.posture_task]
@@ -153,6 +155,8 @@ class WholeBodyIK:
         for i, sid in enumerate(self.sites):
             if tasks.pivot[i]:
                 e[1 + i] = np.linalg.norm(self.toe_points[i].point(d) - self.toe_points[i].target)
+            elif tasks.lifted[i]:
+                e[1 + i] = np.linalg.norm(d.site_xpos[sid, :2] - feet[i, :2])
             else:
                 e[1 + i] = np.linalg.norm(d.site_xpos[sid] - feet[i])
             R = d.site_xmat[sid].reshape(3, 3)
@@ -195,7 +199,9 @@ class WholeBodyIK:
         tasks = self.sole_sets.get(contact, (False, False) if pivot is None else pivot, reach)
         limits: list[Any] = list(self.limits)
         if self.ground is not None:
-            self.ground.hold((False, False) if pivot is None else pivot, reach)
+            air = (True, True) if reach else tasks.lifted
+            floor = [float(f[2]) if up else None for f, up in zip(feet, tasks.lifted, strict=True)]
+            self.ground.hold((False, False) if pivot is None else pivot, air, floor)
             limits = [*self.limits, self.ground]
         hard, soft = [self.com_task, *tasks.hard], self.soft_base + tasks.soft
         conf, damping = self.conf, s.reach_damping if reach else s.damping
@@ -237,7 +243,7 @@ class WholeBodyIK:
             raise InputError("trajectory", f"{n} samples", "at least 2 samples")
         pitch = terrain_pitch(traj) if s.terrain_soles else np.zeros((n, 2))
         self.ground = None
-        if s.toe_off_cost is not None or s.flight_reach_cost is not None:
+        if s.toe_off_cost is not None or s.flight_reach_cost is not None or s.swing_lift_cost is not None:
             terrain = Terrain.from_list(traj.meta.get("terrain"))
             self.ground = GroundLimit(self.model, self.sites, self.robot.sole_size, terrain)
         pivot = trailing_soles(traj.contact) if s.toe_off_cost is not None else np.zeros((n, 2), bool)

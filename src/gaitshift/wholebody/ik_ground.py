@@ -12,9 +12,11 @@ the mink inequality G dq <= h with the row G = s J_x - J_z and h = g(q) (J: the 
 
 * the two heel corners of a sole pivoting about its toe (toe-off): its heel must rise, not dig into the
   ground (the toe corners are held on it by the toe point and the sole's roll);
-* all four corners of the soles of a flight whose poses are soft tasks
-  (:meth:`gaitshift.wholebody.ik_tasks.SoleTaskSets.reaching`): freed to reach, a trailing sole would
-  otherwise pitch its toe through the ground.
+* all four corners of a swing sole whose height is soft (``IKSettings.swing_lift_cost``), and of the soles
+  of a flight whose poses are soft tasks (:meth:`gaitshift.wholebody.ik_tasks.SoleTaskSets.reaching`):
+  pitched toe down just after lift-off, a swing sole would otherwise put its toe through the ground;
+* the centre of such a swing sole on or above its planned height z_p: the row -J_z of the centre and
+  h = c_z(q) - z_p (it may rise where its toe needs it, never sag below the plan's swing path).
 """
 
 from __future__ import annotations
@@ -45,12 +47,16 @@ class GroundLimit:
         self.bodies = [int(model.site_bodyid[s]) for s in sites]
         #: (side, corner indices) held above the ground in the current sample
         self.active: list[tuple[int, tuple[int, ...]]] = []
+        #: (side, height m) of the sole centres held on or above a height in the current sample
+        self.floor: list[tuple[int, float]] = []
         self._jacp, self._jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
 
-    def hold(self, pivot: Any, reach: bool) -> None:
-        """Activate the heel corners of the soles ``pivot`` (2,) bool, or with ``reach`` every corner of
-        both soles; nothing otherwise."""
-        self.active = [(i, ALL) for i in (0, 1)] if reach else [(i, HEEL) for i in (0, 1) if pivot[i]]
+    def hold(self, pivot: Any, air: Any, floor: Any = (None, None)) -> None:
+        """Activate the heel corners of the soles ``pivot`` (2,) bool and every corner of the soles ``air``
+        (2,) bool; nothing otherwise. ``floor`` (2,): a height (m) the sole's centre must stay on or above,
+        or None."""
+        self.active = [(i, ALL if air[i] else HEEL) for i in (0, 1) if air[i] or pivot[i]]
+        self.floor = [(i, float(z)) for i, z in enumerate(floor) if z is not None]
 
     def corners(self, data: Any, side: int) -> np.ndarray:
         """The four corners (4, 3) of sole ``side`` in the world, m."""
@@ -60,10 +66,15 @@ class GroundLimit:
     def compute_qp_inequalities(self, configuration: Any, dt: float) -> Any:
         """(G, h) of the active corners (module docstring); inactive when none."""
         del dt
-        if not self.active:
+        if not self.active and not self.floor:
             return self._constraint()
         d = configuration.data
         rows, h = [], []
+        for side, z in self.floor:
+            p = d.site_xpos[self.sites[side]]
+            self._mj_jac(self.model, d, self._jacp, self._jacr, p, self.bodies[side])
+            rows.append(-self._jacp[2])
+            h.append(p[2] - z)
         for side, idx in self.active:
             pts = self.corners(d, side)
             for c in idx:

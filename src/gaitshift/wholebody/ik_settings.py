@@ -45,6 +45,10 @@ class IKSettings:
             every sole corner above the ground (:mod:`gaitshift.wholebody.ik_ground`), ``4 max_iter``
             iterations and the damping ``reach_damping``; None: no second attempt.
         pelvis_pitch_cost: weight of the pelvis task about its pitch axis (per rad); None: ``pelvis_cost``.
+        swing_lift_cost: a swing sole's height is a soft task of this weight (per m), its centre on or above
+            its planned height and every corner on or above the plan's terrain (its horizontal position,
+            roll and yaw stay hard; :mod:`gaitshift.wholebody.ik_tasks`); None: its height is hard and its
+            corners free.
     """
 
     com_tol: float = 1e-3
@@ -70,6 +74,7 @@ class IKSettings:
     flight_reach_cost: float | None = None
     reach_damping: float = 1e-2
     pelvis_pitch_cost: float | None = None
+    swing_lift_cost: float | None = None
 
 
 #: the IK of reference motions (``gaitshift export`` of a plan, docs/export.md "Fit for training"): joints
@@ -78,7 +83,8 @@ class IKSettings:
 #: the plan's terrain, the rear sole of a double support free to lift its heel (toe-off) where the plan's
 #: ZMP allows it, the motion checked against the plan's physics; joint speeds within their limits, the
 #: pelvis pitch weight 1 (not 10: the pelvis leans forward where a stance ankle would pass its soft
-#: limit), a swing sole out of reach in flight a soft task (docs/export.md "Fit for training")
+#: limit), a swing sole out of reach in flight a soft task, the swing soles' corners above the ground, their
+#: centres lifted as much as that needs (docs/export.md "Fit for training")
 REFERENCE_SETTINGS = IKSettings(
     soft_limits=True,
     pelvis_cost=10.0,
@@ -89,4 +95,5 @@ REFERENCE_SETTINGS = IKSettings(
     speed_limits=True,
     flight_reach_cost=1000.0,
     pelvis_pitch_cost=1.0,
+    swing_lift_cost=10.0,
 )
