@@ -1,8 +1,9 @@
 """The ground inequality of the reference IK (gaitshift.wholebody.ik_ground), against closed forms: a
 G1 standing 10 mm above a flat floor has each held corner's clearance h = 10 mm and the row G = -dz/dq
 (lifting the base lowers no corner: G @ e_z = -1); on a ramp of slope s the row is s dx/dq - dz/dq and h
-the corner's height above the ramp; only the heel corners of a pivoting sole, and every corner of both
-soles of a reached flight, are held."""
+the corner's height above the ramp; only the heel corners of a pivoting sole, and every corner of a swing
+sole whose height is soft or of both soles of a reached flight, are held; a swing sole's centre held on or
+above a height z_p has the row -dz/dq of the centre and h = its height - z_p."""
 
 from __future__ import annotations
 
@@ -54,3 +55,14 @@ def test_on_a_ramp_the_row_follows_the_slope_and_h_the_height_above_it(standing)
     np.testing.assert_allclose(h, corners[:, 2] - s * corners[:, 0], atol=1e-12)
     np.testing.assert_allclose(G[:, 0], s, atol=1e-12)  # the base's x: the ground under the corner rises
     np.testing.assert_allclose(G[:, 2], -1.0, atol=1e-12)
+
+
+def test_a_swing_soles_centre_is_held_above_its_planned_height(standing):
+    robot, model, conf, sites = standing
+    g = GroundLimit(model, sites, robot.sole_size, Terrain.from_list(None))
+    g.hold((False, False), (False, True), (None, 0.004))  # the right sole in the air, its plan 4 mm up
+    G, h = g.compute_qp_inequalities(conf, 1.0)
+    assert G.shape == (5, model.nv)  # its centre, then its four corners
+    centre = conf.data.site_xpos[sites[1], 2]
+    np.testing.assert_allclose(h[0], centre - 0.004, atol=1e-12)  # 6 mm above the planned height
+    np.testing.assert_allclose(G[0, :3], [0.0, 0.0, -1.0], atol=1e-12)  # only the base's z moves it up

@@ -3,14 +3,15 @@ closed forms:
 
 * the trailing sole of a double support is the one that lifts off next, and no sole of a single
   support or a flight is one;
-* the toe-off check refuses a ZMP outside the support a pivoting sole leaves, and the ground check a
-  sole in contact below the ground, each as one (time, check, cause);
+* the toe-off check refuses a ZMP outside the support a pivoting sole leaves, and the ground checks a
+  sole in contact or a swing sole below the ground, each as one (time, check, cause);
 * the margin that decides where a rear sole may pivot (``toe_off_margins``) is the plan's ZMP's distance
   inside the hull of its toe edge and the other sole: negative at its own centre, zero on the edge.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -37,6 +38,13 @@ def test_the_checks_refuse_a_zmp_outside_the_toe_off_support_and_a_sole_below_th
     assert (t, check) == (2.0, "toe-off support") and "2.0 mm outside" in cause
     t, check, cause = fit_violation(fit(0.01, -0.006), 5e-4)  # type: ignore[misc]
     assert (t, check) == (3.0, "ground") and "6.0 mm below" in cause
+
+
+def test_the_swing_ground_check_refuses_a_swing_sole_corner_below_the_ground():
+    ok = fit(None, 0.0)
+    assert fit_violation(replace(ok, swing_clearance_m=-4e-4, swing_clearance_time_s=4.0), 5e-4) is None
+    t, check, cause = fit_violation(replace(ok, swing_clearance_m=-0.0129, swing_clearance_time_s=3.61), 5e-4)  # type: ignore[misc]
+    assert (t, check) == (3.61, "swing ground") and "a swing sole corner is 12.9 mm below" in cause
 
 
 def test_the_toe_off_margin_is_the_zmps_distance_inside_the_toe_edge_and_the_other_sole():

@@ -18,9 +18,11 @@ physical condition, checked here on the solved motion q_k (N samples):
   (:func:`toe_off_margins`); elsewhere the rear sole stays flat and this check verifies the result.
 * **ground**: no corner of a sole in contact (centre +- L/2 along the sole's x, +- W/2 along its y)
   below the ground of the plan's terrain (``meta["terrain"]``) by more than ``pos_tol`` (the IK's own
-  position tolerance): a pivoting heel must go up. The clearance of the soles in the air is reported
-  (a swing sole's soft pitch can tip a corner below the ground near lift-off or touchdown), not
-  checked.
+  position tolerance): a pivoting heel must go up.
+* **swing ground**: the same for the soles in the air: a swing sole's soft pitch tips its toe down just
+  after lift-off, and a sole whose centre followed the plan's swing path (which starts on the ground)
+  would put that toe through the floor. Its centre may rise above the plan's path instead
+  (``IKSettings.swing_lift_cost``); the largest rise is reported.
 
 The report (:class:`PlanFit`, in the IK's ``meta["ik"]["plan_fit"]``) also gives the largest CoM and
 contact-sole errors and the flight samples solved with soft sole poses (a sole out of reach) with the
@@ -52,8 +54,10 @@ class PlanFit:
             (None without toe-off); zmp_margin_time_s: when.
         ground_clearance_m: smallest height of a corner of a sole in contact above the ground (negative:
             below; a pivoting heel must rise); ground_clearance_time_s: when.
-        swing_clearance_m: the same for the soles in the air (None without swings), reported only (the
-            soft swing pitch, not a freedom of the plan's contacts); swing_clearance_time_s: when.
+        swing_clearance_m: the same for the soles in the air (None without swings); swing_clearance_time_s:
+            when.
+        swing_lift_m: the largest rise of a swing sole's centre above its planned place (0 without
+            swings); swing_lift_time_s: when.
         flight_reach_samples: flight samples solved with the soles' poses soft (a sole out of reach,
             ``IKSettings.flight_reach_cost``); flight_reach_error_m: the largest sole-centre error there.
     """
@@ -71,6 +75,8 @@ class PlanFit:
     swing_clearance_time_s: float | None = None
     flight_reach_samples: int = 0
     flight_reach_error_m: float = 0.0
+    swing_lift_m: float = 0.0
+    swing_lift_time_s: float | None = None
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready fields."""
@@ -140,6 +146,8 @@ def plan_fit(
     kc = int(np.argmin(clear))
     swing = np.where(contact, np.inf, clear_each).min(axis=1)
     ks = int(np.argmin(swing))
+    lift = np.where(contact, -np.inf, pos[..., 2] - traj.foot_pos[..., 2]).max(axis=1)
+    kl = int(np.argmax(lift))
     reach = np.zeros(len(qpos), bool) if reached is None else np.asarray(reached, bool)
     margin, k_margin = None, None
     for k in np.flatnonzero(pivot.any(axis=1)):
@@ -161,6 +169,8 @@ def plan_fit(
         swing_clearance_time_s=float(traj.t[ks]) if np.isfinite(swing[ks]) else None,
         flight_reach_samples=int(reach.sum()),
         flight_reach_error_m=float(sole_err[reach].max()) if reach.any() else 0.0,
+        swing_lift_m=max(0.0, float(lift[kl])),
+        swing_lift_time_s=float(traj.t[kl]) if lift[kl] > 0 else None,
     )
 
 
@@ -176,4 +186,12 @@ def fit_violation(fit: PlanFit, pos_tol: float) -> tuple[float, str, str] | None
         depth = -fit.ground_clearance_m * 1e3
         cause = f"a sole corner is {depth:.1f} mm below the ground (tolerance {pos_tol * 1e3:g} mm)"
         return fit.ground_clearance_time_s, "ground", cause
+    if (
+        fit.swing_clearance_m is not None
+        and fit.swing_clearance_m < -pos_tol
+        and fit.swing_clearance_time_s is not None
+    ):
+        depth = -fit.swing_clearance_m * 1e3
+        cause = f"a swing sole corner is {depth:.1f} mm below the ground (tolerance {pos_tol * 1e3:g} mm)"
+        return fit.swing_clearance_time_s, "swing ground", cause
     return None
