@@ -8,8 +8,8 @@ For the reference IK also the motion's deviation from the plan (``meta["ik"]["pl
 :mod:`gaitshift.wholebody.plan_fit`): max CoM error, max error of a flat sole in contact, toe-off
 (samples, largest pivot angle and sole-centre rise), smallest margin of the plan's ZMP inside the
 support left by a toe-off, smallest sole-corner clearance above the ground of the soles in contact
-(checked) and of the swing soles (reported), flight samples solved with soft sole poses and the largest
-sole error there.
+and of the swing soles (both checked), the largest lift of a swing sole above the plan's swing path,
+flight samples solved with soft sole poses and the largest sole error there.
 With ``--sim``, also the closed-loop alternative: ``gaitshift simulate`` of g1-walk-run-walk, exported
 from its log, measured the same way (about 25 s more).
 
@@ -85,6 +85,7 @@ def fit_cell(fit: dict[str, float | None]) -> str:
         f"CoM {1e3 * fit['com_error_m']:.3f} mm, contact sole {1e3 * fit['contact_sole_error_m']:.2f} mm, "  # type: ignore[operator]
         f"{toe}, ground clearance {1e3 * fit['ground_clearance_m']:+.2f} mm"  # type: ignore[operator]
         + (f", swing {1e3 * swing:+.2f} mm" if (swing := fit.get("swing_clearance_m")) is not None else "")
+        + (f", swing lift {1e3 * lift:.1f} mm" if (lift := fit.get("swing_lift_m")) else "")
         + (
             f", flight reach {fit['flight_reach_samples']} samples, <= {1e3 * fit['flight_reach_error_m']:.1f} mm"  # type: ignore[operator]
             if fit.get("flight_reach_samples")
