@@ -2,12 +2,14 @@
 whole-body IK of the export (200 Hz, resampled to mjlab's 50 fps) with the default settings (the MJCF
 joint range, no pelvis task, flat swing soles) and with ``REFERENCE_SETTINGS`` (what ``gaitshift export``
 uses): frames with a joint outside the soft range (robot YAML ``limits.soft_joint_fraction``), pelvis
-roll range and peak rate about the pelvis's x axis, IK time per sample; or why the IK refuses the plan.
+roll range and peak rate about the pelvis's x axis, pelvis pitch range, the largest joint speed over its
+limit (of the 50 fps frames), IK time per sample; or why the IK refuses the plan.
 For the reference IK also the motion's deviation from the plan (``meta["ik"]["plan_fit"]``,
 :mod:`gaitshift.wholebody.plan_fit`): max CoM error, max error of a flat sole in contact, toe-off
 (samples, largest pivot angle and sole-centre rise), smallest margin of the plan's ZMP inside the
 support left by a toe-off, smallest sole-corner clearance above the ground of the soles in contact
-(checked) and of the swing soles (reported).
+and of the swing soles (both checked), the largest lift of a swing sole above the plan's swing path,
+flight samples solved with soft sole poses and the largest sole error there.
 With ``--sim``, also the closed-loop alternative: ``gaitshift simulate`` of g1-walk-run-walk, exported
 from its log, measured the same way (about 25 s more).
 
@@ -32,7 +34,8 @@ FPS = 50
 
 
 def measure(t: np.ndarray, qpos: np.ndarray) -> dict[str, object]:
-    """Frames outside the G1's soft range, pelvis roll range (deg) and peak roll rate (rad/s) at 50 fps."""
+    """Frames outside the G1's soft range, pelvis roll range (deg), peak roll rate (rad/s), pelvis pitch
+    range (deg) and the largest joint speed over its limit (ratio) at 50 fps."""
     robot = load_robot("g1")
     _, q, v = resample(t, qpos, FPS)
     model = robot.model()
@@ -41,11 +44,15 @@ def measure(t: np.ndarray, qpos: np.ndarray) -> dict[str, object]:
     out = np.any((q[:, adr] < soft[:, 0] - 1e-9) | (q[:, adr] > soft[:, 1] + 1e-9), axis=1)
     w, x, y, z = q[:, 3:7].T
     roll = np.degrees(np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)))
+    pitch = np.degrees(np.arcsin(np.clip(2 * (w * y - z * x), -1, 1)))
+    vadr = [model.jnt_dofadr[model.joint(n).id] for n in robot.joint_names]
     return {
         "frames": len(q),
         "outside_soft": int(out.sum()),
         "roll_deg": (round(float(roll.min()), 2), round(float(roll.max()), 2)),
         "roll_rate": round(float(np.abs(v[:, 3]).max()), 3),  # body-frame angular velocity about x
+        "pitch_deg": (round(float(pitch.min()), 1), round(float(pitch.max()), 1)),
+        "speed_ratio": round(float((np.abs(v[:, vadr]) / robot.velocity_limit).max()), 2),
     }
 
 
@@ -78,6 +85,12 @@ def fit_cell(fit: dict[str, float | None]) -> str:
         f"CoM {1e3 * fit['com_error_m']:.3f} mm, contact sole {1e3 * fit['contact_sole_error_m']:.2f} mm, "  # type: ignore[operator]
         f"{toe}, ground clearance {1e3 * fit['ground_clearance_m']:+.2f} mm"  # type: ignore[operator]
         + (f", swing {1e3 * swing:+.2f} mm" if (swing := fit.get("swing_clearance_m")) is not None else "")
+        + (f", swing lift {1e3 * lift:.1f} mm" if (lift := fit.get("swing_lift_m")) else "")
+        + (
+            f", flight reach {fit['flight_reach_samples']} samples, <= {1e3 * fit['flight_reach_error_m']:.1f} mm"  # type: ignore[operator]
+            if fit.get("flight_reach_samples")
+            else ""
+        )
     )
 
 
@@ -93,7 +106,8 @@ def main(argv: list[str]) -> None:
     sim = "--sim" in argv
     names = [a for a in argv if a != "--sim"] or [n for n in builtin_names() if n.startswith("g1-")]
     print(
-        "| scenario | default IK: outside soft / frames, roll (deg), rate (rad/s), IK ms/sample | reference IK: same |"
+        "| scenario | default IK: outside soft / frames, roll (deg), rate (rad/s), pelvis pitch (deg), "
+        "max joint speed / limit, IK ms/sample | reference IK: same |"
     )
     print("| --- | --- | --- |")
     for name in names:
@@ -106,6 +120,7 @@ def main(argv: list[str]) -> None:
             roll = r["roll_deg"]
             cells.append(
                 f"{r['outside_soft']} / {r['frames']}, {roll[0]:+.2f} .. {roll[1]:+.2f}, {r['roll_rate']:.3f}"  # type: ignore[index]
+                + f", pitch {r['pitch_deg'][0]:+.1f} .. {r['pitch_deg'][1]:+.1f}, speed {r['speed_ratio']}"  # type: ignore[index]
                 + f", {r['ik_ms_per_sample']} ms"
                 + (f"; {fit_cell(r['fit'])}" if "fit" in r else "")  # type: ignore[arg-type]
             )

@@ -15,13 +15,21 @@ Reference motions (:data:`REFERENCE_SETTINGS`, what ``gaitshift export`` of a pl
 pelvis upright at the same yaw, every joint within its soft range (the robot YAML's
 ``limits.soft_joint_fraction``), leave a swing sole's pitch soft, lay the soles in contact on the
 plan's terrain and let the rear sole of a double support pivot about its toe (toe-off)
-(:mod:`gaitshift.wholebody.ik_tasks`); the solved motion is then checked against the plan's physics
-and its deviation reported (:mod:`gaitshift.wholebody.plan_fit`).
+(:mod:`gaitshift.wholebody.ik_tasks`) only where the plan's ZMP lies in the support that toe-off
+leaves; the solved motion is then checked against the plan's physics and its deviation reported
+(:mod:`gaitshift.wholebody.plan_fit`). They also keep every joint speed within its limit (the joint
+limits of sample k narrowed to q_{k-1} +- v_max dt), hold the heel of a pivoting sole and every corner
+of a swing sole above the ground, a swing sole's centre rising above the plan's swing path where its
+toe needs it (:mod:`gaitshift.wholebody.ik_ground`), and solve a flight sample whose soles are out of reach again
+with the soles' poses soft (only the CoM hard, every sole corner above the ground): in flight no sole
+carries a force, so where a sole goes changes neither the CoM's motion nor a contact
+(``IKSettings.flight_reach_cost``; the deviation is in the plan-fit report).
 Each Newton iteration is one mink QP (daqp through qpsolvers)::
 
     min_dq  sum_soft ||J_i dq + e_i||^2_{W_i} + damping ||dq||^2
     s.t.    J_h dq = -e_h                  (CoM and both soles, mink ``constraints``)
             q_min <= q + dq <= q_max       (mink ConfigurationLimit)
+            G dq <= h                      (sole corners above the ground, reference motions)
 
 The first guess at sample k is the constant-velocity extrapolation q_{k-1} ⊕ (q_{k-1} ⊖ q_{k-2}),
 so that one or two iterations usually suffice. q̇ comes from central differences of q on the
@@ -37,7 +45,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -45,10 +53,13 @@ import numpy as np
 
 from gaitshift.common.rotations import rot_y, rot_z
 from gaitshift.errors import InputError
+from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.trajectory.contract import Trajectory
 from gaitshift.wholebody.ik_diagnosis import IKInfeasibleError, diagnose
 from gaitshift.wholebody.ik_diagnosis import check_velocities as check_velocities_of
+from gaitshift.wholebody.ik_ground import GroundLimit
+from gaitshift.wholebody.ik_settings import REFERENCE_SETTINGS, IKSettings
 from gaitshift.wholebody.ik_tasks import (
     SoleTasks,
     SoleTaskSets,
@@ -60,73 +71,9 @@ from gaitshift.wholebody.ik_tasks import (
     trailing_soles,
 )
 from gaitshift.wholebody.joints import JointTrajectory, coordinate_names, joint_velocities, subsample
-from gaitshift.wholebody.plan_fit import fit_violation, plan_fit
+from gaitshift.wholebody.plan_fit import fit_violation, plan_fit, toe_off_margins
 
 __all__ = ["REFERENCE_SETTINGS", "IKInfeasibleError", "IKSettings", "WholeBodyIK", "wholebody"]
-
-
-@dataclass(frozen=True)
-class IKSettings:
-    """Tolerances and weights of the whole-body IK.
-
-    Attributes:
-        com_tol, pos_tol, rot_tol: a sample whose CoM error (m), sole position error (m) or sole
-            orientation error (rad) stays above these after ``max_iter`` iterations is infeasible.
-        converged_pos, converged_rot: stop iterating below these errors (m, rad).
-        max_iter: Newton iterations per sample; ``first_iter`` for the first sample (from standing).
-        knee_margin: a knee within this angle (rad) of straight is a singularity.
-        torso_cost, posture_cost, arm_cost: weights of the soft tasks (unitless, per rad).
-        damping: Levenberg-Marquardt damping of the QP.
-        extrapolate: warm-start each sample at q_{k-1} ⊕ (q_{k-1} ⊖ q_{k-2}) (else at q_{k-1}).
-        soft_limits: keep every joint within its soft range (``RobotConfig.soft_joint_fraction`` of its
-            range), else within the MJCF range.
-        pelvis_cost: weight of the floating base's orientation task (upright, yaw = mean sole yaw;
-            unitless, per rad); 0: none.
-        swing_pitch_cost: weight of a swing sole's pitch as a soft task (per rad); None: a hard
-            constraint like the stance soles' (:mod:`gaitshift.wholebody.ik_tasks`).
-        terrain_soles: a sole in contact lies on the plan's terrain (inclined as the ramp under its
-            foothold), else flat.
-        toe_off_cost: the rear sole of a double support may pivot about its toe edge, its pitch a soft
-            task of this weight (per rad); None: it stays flat.
-        check_plan_fit: after solving, refuse a motion that breaks the plan's physics (the ZMP outside
-            the support a toe-off leaves, a sole below the ground; :mod:`gaitshift.wholebody.plan_fit`)
-            and report its deviation from the plan in ``meta["ik"]["plan_fit"]``.
-    """
-
-    com_tol: float = 1e-3
-    pos_tol: float = 5e-4
-    rot_tol: float = 5e-3
-    converged_pos: float = 2e-5
-    converged_rot: float = 2e-4
-    max_iter: int = 12
-    first_iter: int = 200
-    knee_margin: float = 0.05
-    torso_cost: float = 1.0
-    posture_cost: float = 0.02
-    arm_cost: float = 0.5
-    damping: float = 1e-6
-    extrapolate: bool = True
-    soft_limits: bool = False
-    pelvis_cost: float = 0.0
-    swing_pitch_cost: float | None = None
-    terrain_soles: bool = False
-    toe_off_cost: float | None = None
-    check_plan_fit: bool = False
-
-
-#: the IK of reference motions (``gaitshift export`` of a plan, docs/export.md "Fit for training"): joints
-#: within their soft range, the pelvis upright (g1-walk-run-walk: roll within +-0.4 deg instead of -21 to
-#: +25 deg), the swing soles' pitch soft (up to 16 deg toe down in its running swings), soles in contact on
-#: the plan's terrain, the rear sole of a double support free to lift its heel (toe-off), the motion
-#: checked against the plan's physics
-REFERENCE_SETTINGS = IKSettings(
-    soft_limits=True,
-    pelvis_cost=10.0,
-    swing_pitch_cost=1.0,
-    terrain_soles=True,
-    toe_off_cost=1.0,
-    check_plan_fit=True,
-)
 
 
 # ====================================================================== IK
@@ -151,7 +98,10 @@ class WholeBodyIK:
             mink.FrameTask(n, "site", position_cost=1.0, orientation_cost=1.0) for n in RobotConfig.SOLE_SITES
         ]
         self.torso_task = mink.FrameTask(self.robot.torso, "body", position_cost=0.0, orientation_cost=s.torso_cost)
-        self.pelvis_task = mink.FrameTask(self.robot.base, "body", position_cost=0.0, orientation_cost=s.pelvis_cost)
+        pitch_cost = s.pelvis_cost if s.pelvis_pitch_cost is None else s.pelvis_pitch_cost
+        self.pelvis_task = mink.FrameTask(
+            self.robot.base, "body", position_cost=0.0, orientation_cost=[s.pelvis_cost, pitch_cost, s.pelvis_cost]
+        )
         cost = np.full(m.nv, s.posture_cost)
         cost[:6] = 0.0
         legs = set(self.robot.leg_joints)
@@ -171,11 +121,14 @@ class WholeBodyIK:
             f"{side} sole roll" for side, ok in zip(("left", "right"), self.robot.foot_roll, strict=True) if not ok
         ] + (["swing sole pitch"] if s.swing_pitch_cost is not None else [])
         self.dropped += ["trailing sole position and pitch (toe point held)"] if s.toe_off_cost is not None else []
+        self.dropped += ["swing sole height (soft; its corners above the ground)"] if s.swing_lift_cost else []
         toe = np.array([self.robot.sole_size[0] / 2, 0.0, 0.0])  # the toe edge's middle in the sole frame, m
         self.toe_points = [ToePoint(m, site, toe) for site in self.sites]
-        self.sole_sets = SoleTaskSets(
-            mink, self.sole_tasks, self.robot.foot_roll, s.swing_pitch_cost, self.toe_points, s.toe_off_cost
-        )
+        centres = [ToePoint(m, site, np.zeros(3)) for site in self.sites]
+        args = (self.robot.foot_roll, s.swing_pitch_cost, self.toe_points, s.toe_off_cost, centres, s.swing_lift_cost)
+        self.sole_sets = SoleTaskSets(mink, self.sole_tasks, *args)
+        if s.flight_reach_cost is not None:
+            self.sole_sets.reaching(mink, s.flight_reach_cost)
         self.soft_base: list[Any] = [self.torso_task, self.posture_task]
         if s.pelvis_cost > 0:
             self.soft_base.append(self.pelvis_task)
@@ -186,6 +139,11 @@ class WholeBodyIK:
         #: the joint range the IK keeps to (J, 2), rad: the MJCF's, or its soft range
         self.joint_range = rng
         self.lo, self.hi = rng[:, 0], rng[:, 1]
+        self.ground: GroundLimit | None = None
+        #: the joint limits' own bounds (nq,), restored before each solve (``speed_limits`` narrows them)
+        self.range_bounds = (self.limits[0].lower.copy(), self.limits[0].upper.copy())
+        #: samples of the last solve whose flight was solved with soft sole poses (``flight_reach_cost``)
+        self.reached: list[int] = []
 
     # ------------------------------------------------------------------ one sample
     def _errors(self, com: np.ndarray, feet: np.ndarray, rots: list[np.ndarray], tasks: SoleTasks) -> np.ndarray:
@@ -197,6 +155,8 @@ class WholeBodyIK:
         for i, sid in enumerate(self.sites):
             if tasks.pivot[i]:
                 e[1 + i] = np.linalg.norm(self.toe_points[i].point(d) - self.toe_points[i].target)
+            elif tasks.lifted[i]:
+                e[1 + i] = np.linalg.norm(d.site_xpos[sid, :2] - feet[i, :2])
             else:
                 e[1 + i] = np.linalg.norm(d.site_xpos[sid] - feet[i])
             R = d.site_xmat[sid].reshape(3, 3)
@@ -229,26 +189,32 @@ class WholeBodyIK:
         max_iter: int,
         pitch: np.ndarray | None = None,
         pivot: np.ndarray | None = None,
+        reach: bool = False,
     ) -> tuple[np.ndarray, np.ndarray, int, str | None]:
         """Newton iterations of one sample from ``q`` (nq,): its solution, errors (5,), iterations and
         the solver's failure (or None). ``pitch`` (2,) rad: sole pitch targets (default flat); ``pivot``
         (2,) bool: the soles that may pivot about their toe (default none)."""
         s = self.settings
         rots = self._set_targets(com, feet, yaw, np.zeros(2) if pitch is None else pitch)
-        tasks = self.sole_sets.get(contact, (False, False) if pivot is None else pivot)
+        tasks = self.sole_sets.get(contact, (False, False) if pivot is None else pivot, reach)
+        limits: list[Any] = list(self.limits)
+        if self.ground is not None:
+            air = (True, True) if reach else tasks.lifted
+            floor = [float(f[2]) if up else None for f, up in zip(feet, tasks.lifted, strict=True)]
+            self.ground.hold((False, False) if pivot is None else pivot, air, floor)
+            limits = [*self.limits, self.ground]
         hard, soft = [self.com_task, *tasks.hard], self.soft_base + tasks.soft
-        conf = self.conf
+        conf, damping = self.conf, s.reach_damping if reach else s.damping
         conf.update(q)
         err = self._errors(com, feet, rots, tasks)
         it = 0
         failure = None
         while it < max_iter and not (
-            err[0] < s.converged_pos and max(err[1], err[2]) < s.converged_pos and max(err[3], err[4]) < s.converged_rot
+            err[0] < s.converged_pos
+            and (reach or (max(err[1], err[2]) < s.converged_pos and max(err[3], err[4]) < s.converged_rot))
         ):
             try:
-                v = self._mink.solve_ik(
-                    conf, soft, 1.0, "daqp", damping=s.damping, limits=self.limits, constraints=hard
-                )
+                v = self._mink.solve_ik(conf, soft, 1.0, "daqp", damping=damping, limits=limits, constraints=hard)
             except self._mink.NoSolutionFound:
                 failure = "the QP has no solution within the joint limits"
                 break
@@ -276,7 +242,15 @@ class WholeBodyIK:
         if n < 2:
             raise InputError("trajectory", f"{n} samples", "at least 2 samples")
         pitch = terrain_pitch(traj) if s.terrain_soles else np.zeros((n, 2))
+        self.ground = None
+        if s.toe_off_cost is not None or s.flight_reach_cost is not None or s.swing_lift_cost is not None:
+            terrain = Terrain.from_list(traj.meta.get("terrain"))
+            self.ground = GroundLimit(self.model, self.sites, self.robot.sole_size, terrain)
         pivot = trailing_soles(traj.contact) if s.toe_off_cost is not None else np.zeros((n, 2), bool)
+        yaw = traj.foot_yaw
+        targets = np.array([[rot_y(-float(pitch[k, i])) @ rot_z(float(yaw[k, i])) for i in (0, 1)] for k in range(n)])
+        if s.check_plan_fit:
+            pivot &= (toe_off_margins(traj, targets, pivot, self.robot.sole_size) >= 0.0)[:, None]
         qpos, errs, iters, sample_time = self._solve_samples(traj, pitch, pivot)
         self.last_sample_times = sample_time
         self.last_iterations = iters
@@ -285,11 +259,9 @@ class WholeBodyIK:
             check_velocities_of(self, traj.t, qvel)
         meta = self._meta(traj, errs, iters, sample_time)
         if s.check_plan_fit:
-            yaw = traj.foot_yaw
-            targets = np.array(
-                [[rot_y(-float(pitch[k, i])) @ rot_z(float(yaw[k, i])) for i in (0, 1)] for k in range(n)]
-            )
-            fit = plan_fit(traj, self.model, self.sites, qpos, targets, self.robot.sole_size, s.rot_tol)
+            reached = np.zeros(n, bool)
+            reached[self.reached] = True
+            fit = plan_fit(traj, self.model, self.sites, qpos, targets, self.robot.sole_size, s.rot_tol, reached)
             meta["ik"]["plan_fit"] = fit.as_dict()
             broken = fit_violation(fit, s.pos_tol)
             if broken is not None:
@@ -328,24 +300,34 @@ class WholeBodyIK:
         iters = np.empty(n, dtype=np.int32)
         sample_time = np.empty(n)
         v_prev = np.zeros(m.nv)
+        self.reached = []
+        lim = self.limits[0]
+        lim.lower[:], lim.upper[:] = self.range_bounds
+        step = self.robot.velocity_limit * traj.dt * (1.0 - 1e-6)
         for k in range(n):
             t0 = time.perf_counter()
+            lo, hi = self.lo, self.hi
+            if k >= 1 and s.speed_limits:
+                lo = np.maximum(self.lo, np.minimum(self.hi, qpos[k - 1, self.qadr] - step))
+                hi = np.minimum(self.hi, np.maximum(self.lo, qpos[k - 1, self.qadr] + step))
+                lim.lower[self.qadr], lim.upper[self.qadr] = lo, hi
             if k >= 2 and s.extrapolate:
                 mujoco.mj_integratePos(m, q, v_prev, 1.0)
-                q[self.qadr] = np.clip(q[self.qadr], self.lo, self.hi)
+                q[self.qadr] = np.clip(q[self.qadr], lo, hi)
             iters_k = s.first_iter if k == 0 else s.max_iter
             qk, err, it, failure = self._solve_sample(
                 q, com_all[k], feet_all[k], yaw_all[k], traj.contact[k], iters_k, pitch[k], pivot[k]
             )
-            if (
-                failure is not None
-                or err[0] > s.com_tol
-                or max(err[1], err[2]) > s.pos_tol
-                or max(err[3], err[4]) > s.rot_tol
-                or min(abs(qk[a]) for a in self.knee_adr) < s.knee_margin
-            ):
+            bad = self._failed(qk, err, failure)
+            if bad and s.flight_reach_cost is not None and not traj.contact[k].any():
+                qk, err, it, failure = self._solve_sample(
+                    q, com_all[k], feet_all[k], yaw_all[k], traj.contact[k], 4 * iters_k, pitch[k], pivot[k], True
+                )
+                bad = self._failed(qk, err, failure, reach=True)
+                self.reached.append(k)
+            if bad:
                 raise diagnose(self, float(traj.t[k]), qk, feet_all[k], err, failure)
-            qk[self.qadr] = np.clip(qk[self.qadr], self.lo, self.hi)  # rounding only (< 1e-15 rad)
+            qk[self.qadr] = np.clip(qk[self.qadr], lo, hi)  # rounding only (< 1e-15 rad)
             if k >= 1:
                 mujoco.mj_differentiatePos(m, v_prev, 1.0, qpos[k - 1], qk)
             qpos[k] = qk
@@ -354,6 +336,16 @@ class WholeBodyIK:
             iters[k] = it
             sample_time[k] = time.perf_counter() - t0
         return qpos, errs, iters, sample_time
+
+    def _failed(self, qk: np.ndarray, err: np.ndarray, failure: str | None, reach: bool = False) -> bool:
+        s = self.settings
+        return (
+            failure is not None
+            or err[0] > s.com_tol
+            or (not reach and max(err[1], err[2]) > s.pos_tol)
+            or (not reach and max(err[3], err[4]) > s.rot_tol)
+            or min(abs(qk[a]) for a in self.knee_adr) < s.knee_margin
+        )
 
     def _meta(self, traj: Trajectory, errs: np.ndarray, iters: np.ndarray, st: np.ndarray) -> dict[str, Any]:
         qpos_names, qvel_names = coordinate_names(self.model)
@@ -379,6 +371,7 @@ class WholeBodyIK:
                 "pelvis_cost": self.settings.pelvis_cost,
                 "terrain_soles": self.settings.terrain_soles,
                 "toe_off_cost": self.settings.toe_off_cost,
+                "speed_limits": self.settings.speed_limits,
                 "iterations_median": float(np.median(iters)),
                 "iterations_max": int(iters.max()),
                 "time_per_sample_median_s": float(np.median(st[1:] if len(st) > 1 else st)),

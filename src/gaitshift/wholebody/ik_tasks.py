@@ -20,6 +20,14 @@ equality constraints of the IK's QP, except:
   sole flat on the ground (it only lifts where the ankle's range leaves no other solution). Whether the
   plan's ZMP stays within the smaller support this leaves is checked by :mod:`gaitshift.wholebody.plan_fit`.
 
+* a swing sole's height when a lift weight is given (``IKSettings.swing_lift_cost``): its position rows
+  are replaced by its centre's horizontal position in the world (hard; :class:`ToePoint` with no offset)
+  and its height, a soft task of that weight (:class:`PointCost`) with the centre held on or above its
+  planned height and every corner of the sole on or above the ground (:mod:`gaitshift.wholebody.ik_ground`).
+  A sole pitched toe down just after lift-off (its ankle at its soft limit) would otherwise go through
+  the ground where the plan's swing path starts on it: its centre rises by what its toe needs. In a
+  flight solved with soft soles (:meth:`SoleTaskSets.reaching`) the height keeps that weight.
+
 Any other sole in contact lies on the ground (all its rows hard): flat, or, with
 ``IKSettings.terrain_soles``, inclined as the plan's terrain under its foothold (:func:`terrain_pitch`).
 
@@ -42,6 +50,10 @@ from gaitshift.trajectory.contract import Trajectory
 
 #: rows of a sole task: position x, y, z, rotation about the sole's x (roll), y (pitch), z (yaw)
 ROLL, PITCH = 3, 4
+#: mink's error-scaled Levenberg-Marquardt damping of the soft sole tasks of a flight out of reach
+#: (``FrameTask(lm_damping=...)``): without it, g1-top-speed's trailing sole (knee straight) takes
+#: Newton steps of 0.3-0.5 rad that leave the CoM 5 mm off after 48 iterations (t = 3.65 s)
+REACH_LM_DAMPING = 1.0
 
 
 class RowsTask:
@@ -154,17 +166,34 @@ class ToePoint:
         return self._jacp.copy()
 
 
+class PointCost:
+    """A soft task of the IK: a sole point (:class:`ToePoint`) at its target, weights ``cost`` (3,) per m
+    along the world's x, y, z, with mink's error-scaled Levenberg-Marquardt damping ``lm_damping`` (mink
+    reads ``compute_qp_residual`` of a soft task: weighted Jacobian, weighted error, damping)."""
+
+    def __init__(self, point: ToePoint, cost: Any, lm_damping: float = 0.0):
+        self.point, self.cost, self.lm_damping = point, np.asarray(cost, float), lm_damping
+        self.rows = np.flatnonzero(self.cost)
+
+    def compute_qp_residual(self, configuration: Any) -> tuple[np.ndarray, np.ndarray, float]:
+        w = self.cost[self.rows]
+        e = -w * self.point.compute_error(configuration)[self.rows]
+        return w[:, None] * self.point.compute_jacobian(configuration)[self.rows], e, self.lm_damping * float(e @ e)
+
+
 @dataclass(frozen=True)
 class SoleTasks:
     """The sole tasks of one contact state: ``hard`` (equality constraints), ``soft`` (weighted tasks) and,
     per side (left, right), whether roll and pitch are free (left out of the orientation error) and
-    whether the sole is held by its toe point (``pivot``: its position error is then the toe point's)."""
+    whether the sole is held by its toe point (``pivot``: its position error is then the toe point's) or
+    by its centre's horizontal position with a soft height (``lifted``: its position error is horizontal)."""
 
     hard: list[Any]
     soft: list[Any]
     free_roll: tuple[bool, bool]
     free_pitch: tuple[bool, bool]
     pivot: tuple[bool, bool] = (False, False)
+    lifted: tuple[bool, bool] = (False, False)
 
 
 class SoleTaskSets:
@@ -177,6 +206,8 @@ class SoleTaskSets:
         swing_pitch_cost: weight of a swing sole's pitch as a soft task; None: always hard.
         toe_points: (left, right) :class:`ToePoint` of the soles, with ``toe_off_cost`` the weight of a
             pivoting sole's pitch; None: no sole pivots.
+        centres: (left, right) :class:`ToePoint` of the sole centres (no offset), with ``lift_cost`` the
+            weight of a swing sole's height; None: a swing sole's position is hard.
     """
 
     def __init__(
@@ -187,8 +218,13 @@ class SoleTaskSets:
         swing_pitch_cost: float | None,
         toe_points: list[ToePoint] | None = None,
         toe_off_cost: float | None = None,
+        centres: list[ToePoint] | None = None,
+        lift_cost: float | None = None,
     ):
         self.sole_tasks, self.toe_points = sole_tasks, toe_points if toe_off_cost is not None else None
+        self.centres = centres if lift_cost is not None else None
+        self.lift_cost = lift_cost
+        self.heights = [PointCost(c, (0, 0, lift_cost)) for c in centres or []] if lift_cost is not None else []
         tasks = sole_tasks
 
         def pitch(cost: float | None) -> list[Any]:
@@ -214,12 +250,16 @@ class SoleTaskSets:
         pivot = (pivot[0] and toes, pivot[1] and toes)
         free_pitch = tuple((bool(self.pitch_tasks) and not c) or p for c, p in zip(contact, pivot, strict=True))
         held = pivot  # position held at the toe point
+        lifted = tuple(self.centres is not None and not c for c in contact)
         for i, task in enumerate(self.sole_tasks):
             dropped = ([ROLL] if not foot_roll[i] else []) + ([PITCH] if free_pitch[i] else [])
-            dropped += [0, 1, 2] if held[i] else []
+            dropped += [0, 1, 2] if held[i] or lifted[i] else []
             hard.append(RowsTask(task, tuple(r for r in range(6) if r not in dropped)) if dropped else task)
             if held[i] and self.toe_points is not None:
                 hard.append(self.toe_points[i])
+            if lifted[i] and self.centres is not None:
+                hard.append(RowsTask(self.centres[i], (0, 1)))
+                soft.append(self.heights[i])
             if pivot[i]:
                 soft.append(self.toe_pitch_tasks[i])
             elif free_pitch[i]:
@@ -227,11 +267,32 @@ class SoleTaskSets:
             if not foot_roll[i]:
                 soft.append(task)
         free_roll = (not foot_roll[0], not foot_roll[1])
-        return SoleTasks(hard, soft, free_roll, (free_pitch[0], free_pitch[1]), held)
+        return SoleTasks(hard, soft, free_roll, (free_pitch[0], free_pitch[1]), held, (lifted[0], lifted[1]))
 
-    def get(self, contact: Any, pivot: Any = (False, False)) -> SoleTasks:
+    def reaching(self, mink: Any, cost: float) -> None:
+        """Make the set of a flight (no sole in contact) whose soles' poses are soft tasks (position weight
+        ``cost`` per m, roll and yaw ``cost`` per rad; with a lift weight, the height that weight and the
+        position a world-frame task) instead of hard rows: :meth:`get` with ``reach``."""
+        rotation = [cost, 0.0, cost]
+        if self.centres is None:
+            self.reach_tasks = [
+                mink.FrameTask(t.frame_name, t.frame_type, cost, rotation, lm_damping=REACH_LM_DAMPING)
+                for t in self.sole_tasks
+            ]
+        else:
+            self.reach_tasks = [
+                mink.FrameTask(t.frame_name, t.frame_type, 0.0, rotation, lm_damping=REACH_LM_DAMPING)
+                for t in self.sole_tasks
+            ] + [PointCost(c, (cost, cost, self.lift_cost), REACH_LM_DAMPING) for c in self.centres]
+        base = [t for t in self.sets[(False, False, False, False)].soft if t not in self.heights]
+        self.flight_reach = SoleTasks([], base + self.reach_tasks, (True, True), (True, True))
+
+    def get(self, contact: Any, pivot: Any = (False, False), reach: bool = False) -> SoleTasks:
         """The tasks for ``contact`` (2,) bool [left, right] in contact, ``pivot`` (2,) bool the sole may
-        pivot about its toe (only where in contact and toe-off is on)."""
+        pivot about its toe (only where in contact and toe-off is on); ``reach``: the flight set of
+        :meth:`reaching`."""
+        if reach:
+            return self.flight_reach
         return self.sets[(bool(contact[0]), bool(contact[1]), bool(pivot[0]), bool(pivot[1]))]
 
     def set_targets(self) -> None:
@@ -240,6 +301,9 @@ class SoleTaskSets:
             pitch.set_target(task.transform_target_to_world)
         for pitch, task in zip(self.toe_pitch_tasks, self.sole_tasks, strict=False):
             pitch.set_target(task.transform_target_to_world)
-        for toe, task in zip(self.toe_points or [], self.sole_tasks, strict=False):
-            target = task.transform_target_to_world
-            toe.set_target(target.translation(), target.rotation().as_matrix())
+        for reach, task in zip(getattr(self, "reach_tasks", [])[:2], self.sole_tasks, strict=False):
+            reach.set_target(task.transform_target_to_world)
+        for points in (self.toe_points or [], self.centres or []):
+            for point, task in zip(points, self.sole_tasks, strict=False):
+                target = task.transform_target_to_world
+                point.set_target(target.translation(), target.rotation().as_matrix())

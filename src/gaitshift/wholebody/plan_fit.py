@@ -14,14 +14,19 @@ physical condition, checked here on the solved motion q_k (N samples):
   p_k lies in H: the margin ``min_e n_e . (p_k - a_e)`` over the hull's edges e (a_e a vertex, n_e
   the inward normal; the distance to the nearest edge inside, a lower bound of minus the distance
   outside) must be >= 0. No tolerance beyond 0: outside H the plan's CoM motion needs a tension.
+  The IK lets a sole pivot only where the same margin, of the soles where the plan puts them, is >= 0
+  (:func:`toe_off_margins`); elsewhere the rear sole stays flat and this check verifies the result.
 * **ground**: no corner of a sole in contact (centre +- L/2 along the sole's x, +- W/2 along its y)
   below the ground of the plan's terrain (``meta["terrain"]``) by more than ``pos_tol`` (the IK's own
-  position tolerance): a pivoting heel must go up. The clearance of the soles in the air is reported
-  (a swing sole's soft pitch can tip a corner below the ground near lift-off or touchdown), not
-  checked.
+  position tolerance): a pivoting heel must go up.
+* **swing ground**: the same for the soles in the air: a swing sole's soft pitch tips its toe down just
+  after lift-off, and a sole whose centre followed the plan's swing path (which starts on the ground)
+  would put that toe through the floor. Its centre may rise above the plan's path instead
+  (``IKSettings.swing_lift_cost``); the largest rise is reported.
 
 The report (:class:`PlanFit`, in the IK's ``meta["ik"]["plan_fit"]``) also gives the largest CoM and
-contact-sole errors, so that an export states how closely its motion is the plan's.
+contact-sole errors and the flight samples solved with soft sole poses (a sole out of reach) with the
+largest sole error there, so that an export states how closely its motion is the plan's.
 """
 
 from __future__ import annotations
@@ -49,8 +54,12 @@ class PlanFit:
             (None without toe-off); zmp_margin_time_s: when.
         ground_clearance_m: smallest height of a corner of a sole in contact above the ground (negative:
             below; a pivoting heel must rise); ground_clearance_time_s: when.
-        swing_clearance_m: the same for the soles in the air (None without swings), reported only (the
-            soft swing pitch, not a freedom of the plan's contacts); swing_clearance_time_s: when.
+        swing_clearance_m: the same for the soles in the air (None without swings); swing_clearance_time_s:
+            when.
+        swing_lift_m: the largest rise of a swing sole's centre above its planned place (0 without
+            swings); swing_lift_time_s: when.
+        flight_reach_samples: flight samples solved with the soles' poses soft (a sole out of reach,
+            ``IKSettings.flight_reach_cost``); flight_reach_error_m: the largest sole-centre error there.
     """
 
     com_error_m: float
@@ -64,6 +73,10 @@ class PlanFit:
     ground_clearance_time_s: float
     swing_clearance_m: float | None = None
     swing_clearance_time_s: float | None = None
+    flight_reach_samples: int = 0
+    flight_reach_error_m: float = 0.0
+    swing_lift_m: float = 0.0
+    swing_lift_time_s: float | None = None
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready fields."""
@@ -94,6 +107,18 @@ def _corners(pos: np.ndarray, rot: np.ndarray, size: tuple[float, float]) -> np.
     return out
 
 
+def toe_off_margins(traj: Any, targets: np.ndarray, trailing: np.ndarray, sole_size: tuple[float, float]) -> np.ndarray:
+    """Margin (N,) m of the plan's ZMP inside the support a toe-off of the ``trailing`` (N, 2) sole would
+    leave: the convex hull of its toe edge and the other sole's rectangle, both where the plan puts them
+    (centres ``traj.foot_pos``, rotations ``targets`` (N, 2, 3, 3)); +inf where no sole trails."""
+    corners = _corners(np.asarray(traj.foot_pos), targets, sole_size)  # (N, 2, 4, 3)
+    out = np.full(len(targets), np.inf)
+    for k in np.flatnonzero(trailing.any(axis=1)):
+        pts = [corners[k, s, :2, :2] if trailing[k, s] else corners[k, s, :, :2] for s in (0, 1)]
+        out[k] = hull_margin(np.concatenate(pts), traj.zmp[k, :2])
+    return out
+
+
 def plan_fit(
     traj: Any,
     model: Any,
@@ -102,9 +127,11 @@ def plan_fit(
     targets: np.ndarray,
     sole_size: tuple[float, float],
     rot_tol: float,
+    reached: np.ndarray | None = None,
 ) -> PlanFit:
     """The :class:`PlanFit` of the motion ``qpos`` (N, nq) solving the plan ``traj`` (N samples), whose
-    sole target rotations were ``targets`` (N, 2, 3, 3), for soles of ``sole_size`` (length, width) m."""
+    sole target rotations were ``targets`` (N, 2, 3, 3), for soles of ``sole_size`` (length, width) m;
+    ``reached`` (N,) bool: the flight samples solved with soft sole poses (default none)."""
     pos, rot, com = sole_frames(model, sites, qpos)
     contact = traj.contact.astype(bool)
     normal_dot = np.einsum("nsi,nsi->ns", rot[..., :, 2], targets[..., :, 2])
@@ -119,6 +146,9 @@ def plan_fit(
     kc = int(np.argmin(clear))
     swing = np.where(contact, np.inf, clear_each).min(axis=1)
     ks = int(np.argmin(swing))
+    lift = np.where(contact, -np.inf, pos[..., 2] - traj.foot_pos[..., 2]).max(axis=1)
+    kl = int(np.argmax(lift))
+    reach = np.zeros(len(qpos), bool) if reached is None else np.asarray(reached, bool)
     margin, k_margin = None, None
     for k in np.flatnonzero(pivot.any(axis=1)):
         pts = [corners[k, s, :2, :2] if pivot[k, s] else corners[k, s, :, :2] for s in (0, 1) if contact[k, s]]
@@ -137,6 +167,10 @@ def plan_fit(
         ground_clearance_time_s=float(traj.t[kc]),
         swing_clearance_m=float(swing[ks]) if np.isfinite(swing[ks]) else None,
         swing_clearance_time_s=float(traj.t[ks]) if np.isfinite(swing[ks]) else None,
+        flight_reach_samples=int(reach.sum()),
+        flight_reach_error_m=float(sole_err[reach].max()) if reach.any() else 0.0,
+        swing_lift_m=max(0.0, float(lift[kl])),
+        swing_lift_time_s=float(traj.t[kl]) if lift[kl] > 0 else None,
     )
 
 
@@ -152,4 +186,12 @@ def fit_violation(fit: PlanFit, pos_tol: float) -> tuple[float, str, str] | None
         depth = -fit.ground_clearance_m * 1e3
         cause = f"a sole corner is {depth:.1f} mm below the ground (tolerance {pos_tol * 1e3:g} mm)"
         return fit.ground_clearance_time_s, "ground", cause
+    if (
+        fit.swing_clearance_m is not None
+        and fit.swing_clearance_m < -pos_tol
+        and fit.swing_clearance_time_s is not None
+    ):
+        depth = -fit.swing_clearance_m * 1e3
+        cause = f"a swing sole corner is {depth:.1f} mm below the ground (tolerance {pos_tol * 1e3:g} mm)"
+        return fit.swing_clearance_time_s, "swing ground", cause
     return None
