@@ -161,20 +161,22 @@ def test_a_live_plans_look_ahead_is_not_the_end_of_the_run():
 @pytest.mark.parametrize(
     ("scenario", "settings", "floor"),
     [
-        ("g1-walk", {}, 0.0),  # no terrain, no bumps: the flat floor, told
-        ("g1-stairs-up", {}, None),  # terrain: no flat floor to pin
-        ("g1-walk", {"floor": None}, None),  # the caller says it is not known
+        ("g1-walk", {}, None),  # not told: the default
+        ("g1-walk", {"known_floor": True}, 0.0),  # no terrain, no bumps: the flat floor, told
+        ("g1-stairs-up", {"known_floor": True}, None),  # terrain: no flat floor to pin
     ],
 )
-def test_a_scenario_on_the_flat_floor_tells_the_estimator_its_height(scenario, settings, floor):
+def test_a_scenario_on_the_flat_floor_tells_the_estimator_its_height_when_asked(scenario, settings, floor):
     ctrl = Controller.from_scenario(scenario, **settings)
     assert ctrl.state.estimator is not None
     assert ctrl.state.estimator.filter.floor == floor
 
 
-def test_a_scenario_that_says_the_floor_is_unknown_or_has_bumps_pins_nothing(tmp_path):
+def test_the_scenarios_sim_block_tells_the_floor_unless_the_world_has_bumps(tmp_path):
     walk = (Path(gaitshift.__file__).parent / "scenario" / "builtin" / "g1-walk.yaml").read_text()
-    for extra in ("  known_floor: false\n", "  bumps: [{x: 1.0, height: 0.02}]\n"):
+    for extra, floor in (("", 0.0), ("  bumps: [{x: 1.0, height: 0.02}]\n", None)):
         path = tmp_path / "walk.yaml"
-        path.write_text(walk + "sim:\n" + extra)
-        assert Controller.from_scenario(path).state.estimator.filter.floor is None
+        path.write_text(walk + "sim:\n  known_floor: true\n" + extra)
+        assert Controller.from_scenario(path).state.estimator.filter.floor == floor
+    with pytest.raises(InputError, match="known_floor"):
+        Controller.from_scenario("g1-walk", known_floor="yes")

@@ -182,7 +182,7 @@ def test_a_bad_flag_or_domain_0_without_the_real_robot_flag_is_one_line_and_exit
 
 
 @pytest.mark.parametrize(("known", "floor"), [(True, 0.0), (False, None)])
-def test_the_brain_tells_its_estimator_the_flat_floor_unless_told_it_is_unknown(known, floor):
+def test_the_brain_tells_its_estimator_the_flat_floor_when_told_it_is_known(known, floor):
     from gaitshift.dds.brain import BrainOptions, build_controller
 
     ctrl = build_controller(BrainOptions("g1-walk", known_floor=known, replan="inline"))

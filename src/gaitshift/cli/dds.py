@@ -136,7 +136,7 @@ def dds_control_cmd(
     ),
     latency: int = typer.Option(0, "--latency", help="Ticks from a state to its command acting: predicted."),
     known_floor: bool = typer.Option(
-        True,
+        False,
         "--known-floor/--unknown-floor",
         help="The robot stands on a flat floor (a scenario without terrain): its height corrects the estimate.",
     ),

@@ -146,22 +146,31 @@ class Controller:
 
     @classmethod
     def from_scenario(
-        cls, scenario: Any, robot: str | Path | RobotConfig | None = None, state: str | None = None, **settings: Any
+        cls,
+        scenario: Any,
+        robot: str | Path | RobotConfig | None = None,
+        state: str | None = None,
+        known_floor: bool | None = None,
+        **settings: Any,
     ) -> Controller:
         """The controller of ``scenario`` (a built-in name, a YAML path or a loaded scenario) on
         ``robot`` (default: the scenario's, else g1), acting on ``state`` ("estimated", "oracle";
         None: the scenario's ``sim: state``, else estimated: every robot has an IMU, its YAML's
         ``sensors.imu``).
-        ``settings`` are :class:`ControllerSettings` keys, and ``control_period`` (s, 0.002). A scenario
-        without ``terrain`` and ``bumps`` is on the flat floor, which the controller then knows (``floor``
-        = 0) unless its ``sim: known_floor`` is false or ``floor=None`` is passed."""
+        ``settings`` are :class:`ControllerSettings` keys, and ``control_period`` (s, 0.002). With
+        ``known_floor`` (None: the scenario's ``sim: known_floor``, else False) a scenario without
+        ``terrain`` and ``bumps`` tells the controller that the robot is on the flat floor (``floor`` = 0,
+        docs/estimation.md "A known floor")."""
         period = settings.pop("control_period", 0.002)
         sc, cfg, driver, plan = prepare(scenario, robot, check_period(period))
         model = robot_model(cfg, period)
         sim = sc.sim.given() if hasattr(sc, "sim") else {}
         given = {k: v for k, v in sim.items() if k in _SCENARIO_KEYS}
-        if sim.get("known_floor", True) and not getattr(sc, "terrain", ()) and not sim.get("bumps"):
-            given["floor"] = 0.0  # the scenario's world is the flat floor, and it says so
+        known = sim.get("known_floor", False) if known_floor is None else known_floor
+        if known is not True and known is not False:
+            raise InputError("known_floor", known, "true or false")
+        if known and not getattr(sc, "terrain", ()) and not sim.get("bumps"):
+            given["floor"] = 0.0  # the scenario's world is the flat floor, and the controller is told
         if state is not None:
             given["state"] = state
         cs = ControllerSettings.of(**(given | settings))

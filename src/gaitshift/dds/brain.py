@@ -69,11 +69,15 @@ PASSIVE_TAU = 1.0
 
 def build_controller(opts: BrainOptions) -> Controller:
     """The controller of ``opts.scenario`` on ``opts.robot`` with ``contact=opts.contact``,
-    ``replan=opts.replan``, ``latency=opts.latency`` and, without ``opts.known_floor``, no floor; its
+    ``replan=opts.replan``, ``latency=opts.latency`` and ``known_floor=opts.known_floor``; its
     motors must be the hg slots in order (the G1)."""
-    floor = {} if opts.known_floor else {"floor": None}  # known: the scenario says whether it is flat
     ctrl = Controller.from_scenario(
-        opts.scenario, opts.robot, contact=opts.contact, replan=opts.replan, latency=opts.latency, **floor
+        opts.scenario,
+        opts.robot,
+        known_floor=opts.known_floor,
+        contact=opts.contact,
+        replan=opts.replan,
+        latency=opts.latency,
     )
     check_motor_order(ctrl.motor_names)
     return ctrl

@@ -34,7 +34,7 @@ class BrainOptions:
         latency: ticks from a state's taking to its command acting, which the controller predicts across
             (``ControllerSettings.latency``: the link's delay and the motors' own).
         known_floor: the robot stands on a flat floor, whose height the estimator then takes as a
-            measurement when the scenario has no terrain (``ControllerSettings.floor``); False: never.
+            measurement when the scenario has no terrain (``ControllerSettings.floor``); False: unknown.
     """
 
     scenario: str
@@ -57,7 +57,7 @@ class BrainOptions:
     cmd_topic: bool = False
     diag_every: int = 1
     latency: int = 0
-    known_floor: bool = True
+    known_floor: bool = False
 
     def __post_init__(self) -> None:
         check_domain(self.domain)

@@ -15,7 +15,7 @@ Perturbations (issue 13; the controller is never told them)::
       pushes: [{t: 2.0, impulse: [0, 15, 0], duration: 0.1}]   # N s, world frame, from plan time t
       bumps: [{x: 1.5, height: 0.03, length: 0.2}]             # m, box on the floor from x
       terrain: blind             # the planner is not told the scenario's terrain (TERRAIN_KNOWLEDGE)
-      known_floor: false         # the controller is not told that a world without terrain is flat
+      known_floor: true          # the controller is told that a world without terrain is the flat floor
 
 The allowed values live here (the lowest layer) and the simulator checks its options against them.
 """

@@ -106,8 +106,9 @@ class SimOptions:
             None (the default): what the robot YAML's ``sensors.foot_force`` says the real robot has
             (:func:`gaitshift.control.settings.contact_source`): torques for every shipped robot, whose
             real soles carry no force sensors (docs/robots.md, "On the estimate": what holds on torques).
-        known_floor: the controller is told that a world without terrain and bumps is the flat floor
-            at z = 0 (:attr:`gaitshift.control.settings.ControllerSettings.floor`); False: it is not.
+        known_floor: True: the controller is told that a world without terrain and bumps is the flat
+            floor at z = 0 (:attr:`gaitshift.control.settings.ControllerSettings.floor`, docs/estimation.md
+            "A known floor"); False (the default): it is not.
 
     The actuation delay is ``latency``: one setting for the sensing-to-actuation delay of the loop
     (:mod:`gaitshift.sim.latency`), not a second one.
@@ -140,7 +141,7 @@ class SimOptions:
     joint_vel_noise: float = 0.0
     bumps: tuple[Bump, ...] = ()
     contact: str | None = None
-    known_floor: bool = True
+    known_floor: bool = False
 
     def __post_init__(self) -> None:
         self.controller_settings()  # the controller's keys, checked
