@@ -156,7 +156,15 @@ def test_the_latency_pipe_delays_torques_by_l_ticks_and_predicts_constant_accele
 
 @pytest.mark.parametrize(
     ("key", "value"),
-    [("state", "truth"), ("noise", "loud"), ("noise_scale", -1.0), ("latency", 51), ("friction", 0.0), ("seed", -1)],
+    [
+        ("state", "truth"),
+        ("noise", "loud"),
+        ("noise_scale", -1.0),
+        ("latency", 51),
+        ("friction", 0.0),
+        ("seed", -1),
+        ("known_floor", "yes"),
+    ],
 )
 def test_bad_sensing_options_name_the_field(key, value):
     with pytest.raises(InputError) as info:

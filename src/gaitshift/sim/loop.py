@@ -155,6 +155,8 @@ class SimOptions:
         check_motor_strength(self.motor_strength)
         check_joint_vel_noise(self.joint_vel_noise)
         check_bumps(self.bumps)
+        if not isinstance(self.known_floor, bool):
+            raise InputError("known_floor", self.known_floor, "true or false")
 
     def controller_settings(self) -> ControllerSettings:
         """The controller's part of the options (the latency compensated when ``predict_latency``)."""
