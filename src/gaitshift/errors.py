@@ -37,6 +37,13 @@ def number_in(field: str, value: object, bounds: tuple[float, float], unit: str 
     return float(value)
 
 
+def check_flag(field: str, value: object) -> bool:
+    """``value`` when it is a bool, else the :class:`InputError` "true or false" naming ``field``."""
+    if not isinstance(value, bool):
+        raise InputError(field, value, "true or false")
+    return value
+
+
 class ScenarioError(InputError):
     """A scenario file or name is invalid (unknown key, wrong type, unknown built-in)."""
 

@@ -44,12 +44,12 @@ from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.control.reference import tick_reference
 from gaitshift.control.replanner import replanner
 from gaitshift.control.schedule import FootScheduler
-from gaitshift.control.settings import ControllerSettings, contact_source
+from gaitshift.control.settings import ControllerSettings, contact_source, floor_height
 from gaitshift.control.state import ControllerState, EstimateRecord, StateView
 from gaitshift.control.step_limits import StepLimits
 from gaitshift.control.wbc import WholeBodyController
 from gaitshift.control.wbc_data import TickInfo, TickReference, gains_for
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, check_flag
 from gaitshift.robots.config import RobotConfig
 from gaitshift.robots.model import RobotModel, check_period, robot_model
 from gaitshift.trajectory.contract import OPEN_END, Trajectory
@@ -166,11 +166,10 @@ class Controller:
         model = robot_model(cfg, period)
         sim = sc.sim.given() if hasattr(sc, "sim") else {}
         given = {k: v for k, v in sim.items() if k in _SCENARIO_KEYS}
-        known = sim.get("known_floor", False) if known_floor is None else known_floor
-        if known is not True and known is not False:
-            raise InputError("known_floor", known, "true or false")
-        if known and not getattr(sc, "terrain", ()) and not sim.get("bumps"):
-            given["floor"] = 0.0  # the scenario's world is the flat floor, and the controller is told
+        known = check_flag("known_floor", sim.get("known_floor", False) if known_floor is None else known_floor)
+        floor = floor_height(known, not getattr(sc, "terrain", ()), sim.get("bumps"))
+        if floor is not None:
+            given["floor"] = floor
         if state is not None:
             given["state"] = state
         cs = ControllerSettings.of(**(given | settings))

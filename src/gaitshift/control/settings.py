@@ -98,6 +98,12 @@ class ControllerSettings:
         return cls(**given)
 
 
+def floor_height(known: bool, flat: bool, bumps: Any) -> float | None:
+    """:attr:`ControllerSettings.floor` of a world: 0 (the floor's height) when the controller is told
+    (``known``) that a world without terrain (``flat``) and without ``bumps`` is the flat floor, else None."""
+    return 0.0 if known and flat and not bumps else None
+
+
 def contact_source(contact: str | None, robot: Any) -> str:
     """Where contact sensing comes from: ``contact`` when given, else ``"force"`` for a robot whose soles
     measure force and ``"torque"`` for one whose do not (``sensors.foot_force`` of the robot YAML,

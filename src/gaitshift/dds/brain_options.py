@@ -7,7 +7,7 @@ from typing import Any
 from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.dds.safety import check_settings
 from gaitshift.dds.transport import check_domain
-from gaitshift.errors import InputError, number_in
+from gaitshift.errors import InputError, check_flag, number_in
 from gaitshift.scenario.sim_settings import LATENCY_RANGE
 
 __all__ = ["BrainOptions", "BrainSummary"]
@@ -72,8 +72,7 @@ class BrainOptions:
         if isinstance(self.latency, bool) or not isinstance(self.latency, int):
             raise InputError("--latency", self.latency, "an integer number of ticks")
         number_in("--latency", self.latency, LATENCY_RANGE, "ticks")
-        if not isinstance(self.known_floor, bool):
-            raise InputError("--known-floor", self.known_floor, "true or false")
+        check_flag("--known-floor", self.known_floor)
         if isinstance(self.diag_every, bool) or not isinstance(self.diag_every, int) or self.diag_every < 0:
             raise InputError("--diag-every", self.diag_every, "an integer >= 0 (0: no diagnostics)")
 

@@ -31,9 +31,9 @@ from gaitshift.control.drivers import PlanDriver
 from gaitshift.control.feedback import CaptureSettings
 from gaitshift.control.reference import SwingSettings
 from gaitshift.control.schedule import ScheduleSettings
-from gaitshift.control.settings import ControllerSettings
+from gaitshift.control.settings import ControllerSettings, floor_height
 from gaitshift.control.wbc_data import Gains
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, check_flag
 from gaitshift.models.terrain import Terrain
 from gaitshift.robots.config import RobotConfig
 from gaitshift.robots.model import robot_model
@@ -155,8 +155,7 @@ class SimOptions:
         check_motor_strength(self.motor_strength)
         check_joint_vel_noise(self.joint_vel_noise)
         check_bumps(self.bumps)
-        if not isinstance(self.known_floor, bool):
-            raise InputError("known_floor", self.known_floor, "true or false")
+        check_flag("known_floor", self.known_floor)
 
     def controller_settings(self) -> ControllerSettings:
         """The controller's part of the options (the latency compensated when ``predict_latency``)."""
@@ -316,8 +315,9 @@ def simulate(
     terrain = ground if ground is not None else Terrain.from_list(traj.meta.get("terrain"))  # the world's ground
     plant = with_floor_friction(plant or build_plant(opts.control_period, robot, terrain, opts.bumps), opts.friction)
     settings = opts.controller_settings()
-    if opts.known_floor and terrain.flat and not opts.bumps:  # the world is the flat floor, and the controller knows it
-        settings = replace(settings, floor=0.0)
+    floor = floor_height(opts.known_floor, terrain.flat, opts.bumps)
+    if floor is not None:
+        settings = replace(settings, floor=floor)
     ctrl = Controller(traj, robot_model(plant.robot, plant.dt), settings, driver)
     n_ticks = round(ctrl.duration_bound / plant.dt) + 1
     world = World(plant, ctrl.initial_qpos(), opts, ctrl.source == "oracle", n_ticks)

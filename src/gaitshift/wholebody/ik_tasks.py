@@ -225,6 +225,9 @@ class SoleTaskSets:
         self.centres = centres if lift_cost is not None else None
         self.lift_cost = lift_cost
         self.heights = [PointCost(c, (0, 0, lift_cost)) for c in centres or []] if lift_cost is not None else []
+        #: the sole frame tasks of a flight out of reach, and all its soft sole tasks (:meth:`reaching`)
+        self.reach_frames: list[Any] = []
+        self.reach_tasks: list[Any] = []
         tasks = sole_tasks
 
         def pitch(cost: float | None) -> list[Any]:
@@ -274,16 +277,13 @@ class SoleTaskSets:
         ``cost`` per m, roll and yaw ``cost`` per rad; with a lift weight, the height that weight and the
         position a world-frame task) instead of hard rows: :meth:`get` with ``reach``."""
         rotation = [cost, 0.0, cost]
-        if self.centres is None:
-            self.reach_tasks = [
-                mink.FrameTask(t.frame_name, t.frame_type, cost, rotation, lm_damping=REACH_LM_DAMPING)
-                for t in self.sole_tasks
-            ]
-        else:
-            self.reach_tasks = [
-                mink.FrameTask(t.frame_name, t.frame_type, 0.0, rotation, lm_damping=REACH_LM_DAMPING)
-                for t in self.sole_tasks
-            ] + [PointCost(c, (cost, cost, self.lift_cost), REACH_LM_DAMPING) for c in self.centres]
+        position = cost if self.centres is None else 0.0  # with a lift weight: the centres' tasks below
+        self.reach_frames = [
+            mink.FrameTask(t.frame_name, t.frame_type, position, rotation, lm_damping=REACH_LM_DAMPING)
+            for t in self.sole_tasks
+        ]
+        points = [PointCost(c, (cost, cost, self.lift_cost), REACH_LM_DAMPING) for c in self.centres or []]
+        self.reach_tasks = self.reach_frames + points
         base = [t for t in self.sets[(False, False, False, False)].soft if t not in self.heights]
         self.flight_reach = SoleTasks([], base + self.reach_tasks, (True, True), (True, True))
 
@@ -301,7 +301,7 @@ class SoleTaskSets:
             pitch.set_target(task.transform_target_to_world)
         for pitch, task in zip(self.toe_pitch_tasks, self.sole_tasks, strict=False):
             pitch.set_target(task.transform_target_to_world)
-        for reach, task in zip(getattr(self, "reach_tasks", [])[:2], self.sole_tasks, strict=False):
+        for reach, task in zip(self.reach_frames, self.sole_tasks, strict=False):
             reach.set_target(task.transform_target_to_world)
         for points in (self.toe_points or [], self.centres or []):
             for point, task in zip(points, self.sole_tasks, strict=False):

@@ -107,16 +107,23 @@ def _corners(pos: np.ndarray, rot: np.ndarray, size: tuple[float, float]) -> np.
     return out
 
 
+def _support_margins(corners: np.ndarray, zmp: np.ndarray, pivot: np.ndarray, down: np.ndarray) -> np.ndarray:
+    """Margin (N,) m of ``zmp`` (N, >= 2) inside the support of the soles ``down`` (N, 2) whose corners are
+    ``corners`` (N, 2, 4, 3): the toe edge of a sole that pivots (``pivot`` (N, 2)), the whole rectangle
+    of the others; +inf where no sole pivots."""
+    out = np.full(len(corners), np.inf)
+    for k in np.flatnonzero(pivot.any(axis=1)):
+        pts = [corners[k, s, :2, :2] if pivot[k, s] else corners[k, s, :, :2] for s in (0, 1) if down[k, s]]
+        out[k] = hull_margin(np.concatenate(pts), zmp[k, :2])
+    return out
+
+
 def toe_off_margins(traj: Any, targets: np.ndarray, trailing: np.ndarray, sole_size: tuple[float, float]) -> np.ndarray:
     """Margin (N,) m of the plan's ZMP inside the support a toe-off of the ``trailing`` (N, 2) sole would
     leave: the convex hull of its toe edge and the other sole's rectangle, both where the plan puts them
     (centres ``traj.foot_pos``, rotations ``targets`` (N, 2, 3, 3)); +inf where no sole trails."""
     corners = _corners(np.asarray(traj.foot_pos), targets, sole_size)  # (N, 2, 4, 3)
-    out = np.full(len(targets), np.inf)
-    for k in np.flatnonzero(trailing.any(axis=1)):
-        pts = [corners[k, s, :2, :2] if trailing[k, s] else corners[k, s, :, :2] for s in (0, 1)]
-        out[k] = hull_margin(np.concatenate(pts), traj.zmp[k, :2])
-    return out
+    return _support_margins(corners, traj.zmp, trailing, np.ones_like(trailing, dtype=bool))
 
 
 def plan_fit(
@@ -149,12 +156,9 @@ def plan_fit(
     lift = np.where(contact, -np.inf, pos[..., 2] - traj.foot_pos[..., 2]).max(axis=1)
     kl = int(np.argmax(lift))
     reach = np.zeros(len(qpos), bool) if reached is None else np.asarray(reached, bool)
-    margin, k_margin = None, None
-    for k in np.flatnonzero(pivot.any(axis=1)):
-        pts = [corners[k, s, :2, :2] if pivot[k, s] else corners[k, s, :, :2] for s in (0, 1) if contact[k, s]]
-        m = hull_margin(np.concatenate(pts), traj.zmp[k, :2])
-        if margin is None or m < margin:
-            margin, k_margin = m, int(k)
+    margins = _support_margins(corners, traj.zmp, pivot, contact)
+    k_margin = int(np.argmin(margins)) if pivot.any() else None
+    margin = None if k_margin is None else float(margins[k_margin])
     return PlanFit(
         com_error_m=float(np.linalg.norm(com - traj.com_pos, axis=1).max()),
         contact_sole_error_m=float(sole_err[flat].max()) if flat.any() else 0.0,
