@@ -14,7 +14,16 @@ from types import SimpleNamespace
 
 import pytest
 
-from gaitshift.dds.cmdvel import MAX_LINES, CommandInput, CommandLimits, KeySteer, check_command, live_limits, publish
+from gaitshift.dds.cmdvel import (
+    MAX_LINES,
+    CommandInput,
+    CommandLimits,
+    KeySteer,
+    TopicSource,
+    check_command,
+    live_limits,
+    publish,
+)
 from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
 from gaitshift.dds.transport import open_endpoint, open_participant, topic_writer
 from gaitshift.errors import InputError
@@ -77,7 +86,7 @@ def take_all(inp, n, timeout=10.0):
 def test_over_dds_bad_commands_are_dropped_and_counted_the_newest_valid_one_applied():
     domain = BASE_DOMAIN
     lines = []
-    inp = CommandInput(open_endpoint(domain, "lo", "controller"), LIMITS, lines.append)
+    inp = CommandInput([TopicSource(open_endpoint(domain, "lo", "controller"))], LIMITS, lines.append)
     sender = open_participant(domain, "lo")
     bad = [VelocityCommand_(seq=i, vx=v) for i, v in enumerate([math.nan, 3.0, -1.0, 0.0, 0.1, 0.2])]
     bad[3].stop = 7
@@ -122,7 +131,7 @@ def test_the_cmd_command_sends_one_command_refuses_bad_values_and_says_when_no_b
     code, _, err = cli(["dds", "cmd", "--vx", "0.2", "--domain", str(domain), "--wait", "0.2"])
     assert code == 1 and err.startswith("gaitshift: no reader of rt/gaitshift/cmd_vel") and err.count("\n") == 1
     domain = BASE_DOMAIN + 3
-    inp = CommandInput(open_endpoint(domain, "lo", "controller"), LIMITS, print)
+    inp = CommandInput([TopicSource(open_endpoint(domain, "lo", "controller"))], LIMITS, print)
     code, _, err = cli(["dds", "cmd", "--vx", "0.5", "--yaw-rate", "-0.3", "--domain", str(domain), "--repeat", "2"])
     take_all(inp, 2)
     assert code == 0 and err.startswith("sent vx 0.5 m/s, vy 0 m/s, yaw_rate -0.3 rad/s on rt/gaitshift/cmd_vel")

@@ -1,5 +1,6 @@
 """Unitree low-level protocol commands: ``gaitshift dds robot ROBOT`` (the MuJoCo world behind the protocol),
-``gaitshift dds control SCENARIO`` (the brain: the controller over the protocol, behind the safety machine) and
+``gaitshift dds control SCENARIO`` (the brain: the controller over the protocol, behind the safety machine; live
+commands from the topic, the browser page and the keyboard: :mod:`gaitshift.cli.dds_live`) and
 ``gaitshift dds cmd`` (a live velocity command to the brain on ``rt/gaitshift/cmd_vel``)."""
 
 from __future__ import annotations
@@ -13,10 +14,10 @@ from typing import TYPE_CHECKING
 import typer
 
 from gaitshift.cli.app import app, out_file
+from gaitshift.cli.web import web_port_option
 from gaitshift.errors import InputError
 
 if TYPE_CHECKING:
-    from gaitshift.control.controller import Controller
     from gaitshift.dds.brain_options import BrainOptions, BrainSummary
 
 
@@ -140,13 +141,23 @@ def dds_control_cmd(
         "--known-floor/--unknown-floor",
         help="The robot stands on a flat floor (a scenario without terrain): its height corrects the estimate.",
     ),
+    web: bool = typer.Option(
+        False, "--web", help="Serve a browser page: the robot as the brain estimates it, and live command sliders."
+    ),
+    web_port: int = web_port_option(),
+    teleop: bool = typer.Option(
+        False, "--teleop", help="Steer with the keys (arrows/wasd speed, z/x turn, space stand, q stop): a terminal."
+    ),
 ) -> None:
     """Run SCENARIO's controller over the protocol: rt/lowstate in, rt/lowcmd out, behind the safety
-    machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Exit 0 when the plan
-    ended, 1 on a fault or when no robot answers."""
+    machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Live commands (a
+    locomotion scenario) from rt/gaitshift/cmd_vel (--cmd-topic), the browser page (--web) and the keys
+    (--teleop). Exit 0 when the plan ended, 1 on a fault or when no robot answers."""
+    from gaitshift.cli.dds_live import check_live_flags
     from gaitshift.dds.brain import BrainOptions
 
     network_interface(iface)
+    check_live_flags(scenario, cmd_topic, web_port, teleop)  # one line, exit 2, before anything is built
     opts = BrainOptions(
         scenario=scenario,
         robot=robot,
@@ -170,19 +181,20 @@ def dds_control_cmd(
         latency=latency,
         known_floor=known_floor,
     )
-    _start_brain(opts, warm, as_json)
+    _start_brain(opts, warm, as_json, (web, web_port), teleop)
 
 
-def _start_brain(opts: BrainOptions, warm: bool, as_json: bool) -> None:
-    """Build the controller (a live scenario's commands checked first), warm up, run the brain, report."""
+def _start_brain(opts: BrainOptions, warm: bool, as_json: bool, web: tuple[bool, int], teleop: bool) -> None:
+    """Build the controller, warm up, open the live inputs (``web`` = (--web, --web-port), ``teleop``),
+    run the brain, report."""
+    from gaitshift.cli.dds_live import live_inputs
     from gaitshift.dds.brain import build_controller, run_brain
+    from gaitshift.dds.cmdvel import live_limits
     from gaitshift.dds.warmup import warm_up
 
-    if opts.cmd_topic:
-        _live_scenario(opts.scenario)  # refused before the controller is built
     ctrl = build_controller(opts)
-    if opts.cmd_topic:
-        _live_commands(ctrl, opts.scenario)  # not a live plan: one line, exit 2, before any DDS traffic
+    if opts.cmd_topic or teleop:
+        live_limits(ctrl, opts.scenario)  # not a live plan: one line, exit 2, before any DDS traffic
     if warm:
         # the throwaway re-plans inline: a worker of its own would only cost a process start
         typer.echo(f"warm-up: {warm_up(build_controller(replace(opts, replan='inline'))):.2f} s", err=True)
@@ -192,30 +204,14 @@ def _start_brain(opts: BrainOptions, warm: bool, as_json: bool) -> None:
         f"{opts.state_timeout:g} s for rt/lowstate",
         err=True,
     )
-    s = run_brain(opts, ctrl=ctrl, say=lambda line: typer.echo(line, err=True))
+
+    def say(line: str) -> None:
+        typer.echo(line, err=True)
+
+    with live_inputs(ctrl, opts.cmd_topic, web, teleop, say) as (queues, page):
+        s = run_brain(opts, ctrl=ctrl, say=say, queues=queues, page=page)
     _report(s, as_json)
     raise typer.Exit(s.exit_code)
-
-
-def _live_scenario(scenario: str) -> None:
-    """:class:`InputError` ``--cmd-topic`` unless ``scenario`` plans with ``planner: locomotion`` (live commands)."""
-    from gaitshift.errors import InputError
-    from gaitshift.scenario import load_scenario
-
-    if load_scenario(scenario).planner != "locomotion":
-        raise InputError("--cmd-topic", scenario, "a live-command scenario (planner: locomotion)")
-
-
-def _live_commands(ctrl: Controller, scenario: str) -> None:
-    """The live plan's command limits in one line; :class:`InputError` when the plan takes no live command."""
-    from gaitshift.dds.cmdvel import live_limits
-
-    lim = live_limits(ctrl, scenario)
-    typer.echo(
-        f"live commands from rt/gaitshift/cmd_vel: vx [{-lim.backward:.3g}, {lim.forward:.3g}] m/s, "
-        f"|vy| <= {lim.sideways:.3g} m/s, |yaw_rate| <= {lim.yaw_rate:.3g} rad/s",
-        err=True,
-    )
 
 
 def _report(s: BrainSummary, as_json: bool) -> None:
@@ -293,21 +289,21 @@ def _teleop(domain: int, iface: str) -> None:
 
 
 def _key_loop(domain: int, iface: str) -> None:  # pragma: no cover - needs a TTY
-    from gaitshift.cli.keys import KeyReader
+    import threading
+
+    from gaitshift.cli.dds_live import KEYS_HELP
+    from gaitshift.cli.keys import KeyReader, key_loop
     from gaitshift.dds.cmdvel import KeySteer
     from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
     from gaitshift.dds.transport import open_participant, topic_writer
 
-    writer, steer = topic_writer(open_participant(domain, iface), CMD_VEL_TOPIC, VelocityCommand_), KeySteer()
-    typer.echo("keys: arrows/wasd speed, z/x turn, space stand, q stop the run and quit", err=True)
+    writer = topic_writer(open_participant(domain, iface), CMD_VEL_TOPIC, VelocityCommand_)
+
+    def put(msg: VelocityCommand_) -> None:
+        writer.write(msg)
+        reader = "" if writer.get_matched_subscriptions() else " (no brain reading yet)"
+        typer.echo(f"vx {msg.vx:+.2f} m/s, vy {msg.vy:+.2f} m/s, yaw_rate {msg.yaw_rate:+.2f} rad/s{reader}")
+
+    typer.echo(KEYS_HELP + " and quit", err=True)
     with KeyReader() as keys:
-        while True:
-            for action in keys.poll(0.1):
-                msg = steer.press(action)
-                if msg is None:
-                    continue
-                writer.write(msg)
-                reader = "" if writer.get_matched_subscriptions() else " (no brain reading yet)"
-                typer.echo(f"vx {msg.vx:+.2f} m/s, vy {msg.vy:+.2f} m/s, yaw_rate {msg.yaw_rate:+.2f} rad/s{reader}")
-                if msg.stop:
-                    return
+        key_loop(keys, KeySteer(), put, threading.Event())

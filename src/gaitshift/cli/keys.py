@@ -1,7 +1,8 @@
 """Key presses from a terminal, as the command tokens of :mod:`gaitshift.scenario.commands`.
 
 Arrows or ``wasd`` change the speed, ``z``/``x`` the yaw rate, space stops, ``q`` (or Ctrl-C) quits.
-Used by ``gaitshift teleop`` and ``gaitshift teleop --sim``.
+Used by ``gaitshift teleop``, ``gaitshift teleop --sim``, ``gaitshift dds cmd --teleop`` and
+``gaitshift dds control --teleop`` (:func:`key_loop`, in a thread beside the brain's tick).
 """
 
 from __future__ import annotations
@@ -9,8 +10,11 @@ from __future__ import annotations
 import os
 import select
 import sys
+import threading
+from collections.abc import Callable
+from typing import Any, TextIO
 
-__all__ = ["KEY_ACTIONS", "KeyReader"]
+__all__ = ["KEY_ACTIONS", "KeyReader", "key_loop"]
 
 KEY_ACTIONS = {
     "\x1b[A": "up",
@@ -29,15 +33,23 @@ KEY_ACTIONS = {
 }
 
 
-class KeyReader:  # pragma: no cover - needs a TTY
+class KeyReader:
     """Key presses from a terminal in cbreak mode, as actions (:data:`KEY_ACTIONS`); a context manager
-    that restores the terminal."""
+    that restores the terminal.
+
+    Args:
+        fd: the terminal's file descriptor (None: stdin's). out: where the newline written when the
+            terminal is restored goes (None: stdout).
+    """
+
+    def __init__(self, fd: int | None = None, out: TextIO | None = None) -> None:
+        self.fd = sys.stdin.fileno() if fd is None else fd
+        self.out = out
 
     def __enter__(self) -> KeyReader:
         import termios
         import tty
 
-        self.fd = sys.stdin.fileno()
         self.old = termios.tcgetattr(self.fd)
         tty.setcbreak(self.fd)
         self.buf = ""
@@ -47,11 +59,11 @@ class KeyReader:  # pragma: no cover - needs a TTY
         import termios
 
         termios.tcsetattr(self.fd, termios.TCSADRAIN, self.old)
-        sys.stdout.write("\n")
+        (self.out or sys.stdout).write("\n")
 
     def poll(self, timeout: float = 0.0) -> list[str]:
         """The actions typed since the last call (waits up to ``timeout`` s for the first)."""
-        ready, _, _ = select.select([sys.stdin], [], [], timeout)
+        ready, _, _ = select.select([self.fd], [], [], timeout)
         if ready:
             self.buf += os.read(self.fd, 16).decode(errors="ignore")
         out = []
@@ -65,3 +77,17 @@ class KeyReader:  # pragma: no cover - needs a TTY
             self.buf = self.buf[len(key) :]
             out.append(KEY_ACTIONS[key])
         return out
+
+
+def key_loop(keys: KeyReader, steer: Any, put: Callable[[Any], None], done: threading.Event) -> None:
+    """Key presses to commands until ``done`` is set or the stop command (q) went: each action of ``keys``
+    through ``steer.press`` (:class:`gaitshift.dds.cmdvel.KeySteer`: None for no command), the command to
+    ``put``. Polls every 0.1 s, so ``done`` is seen within that time."""
+    while not done.is_set():
+        for action in keys.poll(0.1):
+            msg = steer.press(action)
+            if msg is None:
+                continue
+            put(msg)
+            if msg.stop:
+                return

@@ -5,18 +5,20 @@ Each tick::
 
     take rt/lowstate                  the newest state with a good CRC (bad CRCs dropped and counted), as bytes
     frame_from_lowstate(...)          a NaN or out-of-range field: a fault
-    take rt/gaitshift/cmd_vel         --cmd-topic: live commands checked, the newest valid one kept
+    take the live commands            --cmd-topic, --web, --teleop: checked, the newest valid one kept
     safety.step(t, frame, age)        damping -> stand-up -> hold -> locomotion -> stop, or a fault: damping
     ctrl.tick(frame)                  locomotion only; its clock starts when the hold ends
     safety.guard(cmd, frame)          q, dq, torque clamped to the robot's limits
     lowcmd_bytes(cmd, mm)             mode 1 on every motor, mode_machine from the state, the CRC set
     write rt/lowcmd
     write rt/gaitshift/estimate       every diag_every ticks: the estimate (:mod:`gaitshift.dds.diagnostics`)
+    hand the tick to the page         --web: phase, record, plan (:mod:`gaitshift.dds.brain_web`)
 
 The gyro readings of the hold (the robot standing still at the start pose, ``hold`` s) are the
 controller's calibration (``Controller.calibrate``), fed before its first tick. Live commands
-(:mod:`gaitshift.dds.cmdvel`) reach the controller at the locomotion ticks, through its ``command`` and
-``stop``. The brain reads ``rt/lowstate`` and ``rt/gaitshift/cmd_vel`` only: nothing of the robot's truth.
+(:mod:`gaitshift.dds.cmdvel`: the topic, and the queues of the browser page and the keyboard that
+``run_brain`` is given) reach the controller at the locomotion ticks, through its ``command`` and ``stop``.
+The brain reads ``rt/lowstate`` and ``rt/gaitshift/cmd_vel`` only: nothing of the robot's truth.
 
 The states are read and the commands written as their CDR bytes (:mod:`gaitshift.dds.cdr`: the same
 bytes as cyclonedds's (de)serialization, in a tenth of its time).
@@ -38,7 +40,7 @@ fault, no state within ``state_timeout`` s, or a real robot that is not damping 
 import math
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -47,8 +49,9 @@ import numpy as np
 from gaitshift.control.controller import Controller
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.dds.brain_options import BrainOptions, BrainSummary
+from gaitshift.dds.brain_web import BrainFeed
 from gaitshift.dds.cdr import StateBytes
-from gaitshift.dds.cmdvel import CommandInput, live_limits
+from gaitshift.dds.cmdvel import CommandInput, CommandSource, TopicSource, live_limits
 from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes
 from gaitshift.dds.diagnostics import Diagnostics
 from gaitshift.dds.g1 import check_motor_order
@@ -107,10 +110,19 @@ def _safety(ctrl: Controller, opts: BrainOptions) -> Safety:
 class _Brain:
     """One run: the controller, the machine, the endpoint, the newest state, the counters."""
 
-    def __init__(self, opts: BrainOptions, ctrl: Controller, endpoint: Endpoint, say: Callable[[str], None]) -> None:
+    def __init__(
+        self,
+        opts: BrainOptions,
+        ctrl: Controller,
+        endpoint: Endpoint,
+        say: Callable[[str], None],
+        live: tuple[Sequence[CommandSource], BrainFeed | None] = ((), None),
+    ) -> None:
         self.opts, self.ctrl, self.endpoint = opts, ctrl, endpoint
-        limits = live_limits(ctrl, opts.scenario) if opts.cmd_topic else None
-        self.commands = None if limits is None else CommandInput(endpoint, limits, say)
+        sources = [*([TopicSource(endpoint)] if opts.cmd_topic else []), *live[0]]
+        limits = live_limits(ctrl, opts.scenario) if sources else None
+        self.commands = None if limits is None else CommandInput(sources, limits, say)
+        self.page = live[1]
         self.diag = Diagnostics(endpoint, opts.diag_every) if opts.diag_every else None
         self.gyro: list[np.ndarray] = []  # the hold's gyro readings less the legs' rate, rad/s
         self.legs = (
@@ -209,6 +221,8 @@ class _Brain:
         if self.diag is not None:
             record = self.ctrl.record if kind else None
             self.diag.publish(self.handled, t, self.safety.phase, None if record is None else record.estimate)
+        if self.page is not None:
+            self.page.offer(self.safety.phase, self.ctrl.record if kind else None, self.ctrl.trajectory)
         return kind
 
     def calibrate(self, t: float) -> bool:
@@ -325,13 +339,17 @@ def run_brain(
     endpoint: Endpoint | None = None,
     ctrl: Controller | None = None,
     say: Callable[[str], None] = _stderr,
+    queues: Sequence[CommandSource] = (),
+    page: BrainFeed | None = None,
 ) -> BrainSummary:
     """Run the brain (module docstring) until the plan ended, a fault, or SIGINT/SIGTERM; ``say`` takes the
-    lines of the run (a dropped live command)."""
+    lines of the run (a dropped live command). ``queues``: command sources beside the topic (the browser
+    page's, the keyboard's: :class:`~gaitshift.dds.cmdvel.CommandQueue`); ``page``: the browser page's
+    hand-off (:class:`~gaitshift.dds.brain_web.BrainFeed`), given every tick."""
     ctrl = ctrl or build_controller(opts)
     start = time.perf_counter()
     endpoint = endpoint or open_endpoint(opts.domain, opts.iface, "controller")
-    brain = _Brain(opts, ctrl, endpoint, say)
+    brain = _Brain(opts, ctrl, endpoint, say, (queues, page))
     where = f"DDS domain {opts.domain} over {opts.iface}"
     if not brain.wait_first():
         reason = (

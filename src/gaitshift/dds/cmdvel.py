@@ -1,10 +1,13 @@
 """Live velocity commands over DDS: ``rt/gaitshift/cmd_vel`` (:class:`~gaitshift.dds.own_messages.VelocityCommand_`)
 read by the brain and passed to the controller's public ``command(vx, vy, yaw_rate)`` / ``stop()``.
 
-Each tick the brain polls the topic (:meth:`CommandInput.poll`): every sample is checked
+The brain's command input (:class:`CommandInput`) takes the commands of every source it was given, each
+with the same checks: the topic (:class:`TopicSource`, ``--cmd-topic``) and the commands other threads put
+in a :class:`CommandQueue` (the browser page's controls, ``--web``; the keyboard, ``--teleop``).
+Each tick the brain polls its sources (:meth:`CommandInput.poll`): every command is checked
 (:func:`check_command`): a component not finite or beyond the plan's limits (the locomotion generator's
 ``max_speed`` forward / backward / sideways, m/s, and ``max_yaw_rate``, rad/s), or a ``stop`` other than 0
-or 1, is dropped and counted, with one line naming the field (the first :data:`MAX_LINES`; the rest only
+or 1, is dropped and counted, with one line naming its source and the field (the first :data:`MAX_LINES`; the rest only
 counted); bad input never stops the run. The newest valid command is kept and handed to the controller at
 the next locomotion tick (:meth:`CommandInput.apply`; before locomotion it waits). A ``stop`` is final:
 the plan ramps down, stands, ends, and the brain exits 0; later commands are dropped.
@@ -15,17 +18,29 @@ participant, so another program (or a shell) steers the robot; :class:`KeySteer`
 """
 
 import math
+import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
 from gaitshift.dds.transport import Endpoint, Participant, topic_reader, topic_writer
 from gaitshift.errors import InputError
 from gaitshift.scenario.commands import KEYS, LOCOMOTION_STEP, key_change
 
-__all__ = ["MAX_LINES", "CommandInput", "CommandLimits", "KeySteer", "check_command", "live_limits", "publish"]
+__all__ = [
+    "MAX_LINES",
+    "CommandInput",
+    "CommandLimits",
+    "CommandQueue",
+    "CommandSource",
+    "KeySteer",
+    "TopicSource",
+    "check_command",
+    "live_limits",
+    "publish",
+]
 
 #: dropped commands reported each with a line; later drops are only counted
 MAX_LINES = 5
@@ -76,20 +91,85 @@ def check_command(msg: Any, limits: CommandLimits) -> str:
     return ""
 
 
-class CommandInput:
-    """The brain's reader of ``rt/gaitshift/cmd_vel`` (module docstring).
+class CommandSource(Protocol):
+    """Where live commands come from: ``name`` (in a dropped command's line) and ``take()``, the
+    :class:`VelocityCommand_` samples that came since the last call, oldest first."""
+
+    name: str
+
+    def take(self) -> list[Any]:
+        """The commands since the last call, oldest first."""
+        ...
+
+
+class TopicSource:
+    """``rt/gaitshift/cmd_vel`` read on the brain's ``endpoint`` (its participant)."""
+
+    name = CMD_VEL_TOPIC
+
+    def __init__(self, endpoint: Endpoint) -> None:
+        self.reader = topic_reader(endpoint, CMD_VEL_TOPIC, VelocityCommand_)
+
+    def take(self) -> list[Any]:
+        """The samples received since the last call (at most 64), oldest first."""
+        return [m for m in self.reader.take(N=64) if isinstance(m, VelocityCommand_)]
+
+
+class CommandQueue:
+    """Commands put by other threads (the browser page's callbacks, the key loop), taken by the brain's
+    tick: a list swapped under a lock, so that the tick's cost is one lock and no waiting on the page.
 
     Args:
-        endpoint: the brain's endpoint (its participant). limits: the live plan's limits.
-        say: where a dropped command's line goes.
+        name: the source in a dropped command's line (``the web page``, ``the keyboard``).
+    """
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self.lock = threading.Lock()
+        self.items: list[Any] = []
+        self.seq = 0
+
+    def put(self, msg: Any) -> None:
+        """Queue one :class:`VelocityCommand_` (any thread)."""
+        with self.lock:
+            self.items.append(msg)
+
+    def command(self, vx: float, vy: float, yaw_rate: float) -> None:
+        """Queue the velocity command (vx, vy m/s in the heading frame, yaw_rate rad/s)."""
+        self.numbered(VelocityCommand_(stamp=time.time(), vx=vx, vy=vy, yaw_rate=yaw_rate))
+
+    def stop(self) -> None:
+        """Queue the stop command (ramp down, stand, end the run)."""
+        self.numbered(VelocityCommand_(stamp=time.time(), stop=1))
+
+    def numbered(self, msg: Any) -> None:
+        """Queue ``msg`` with the queue's next ``seq`` (1, 2, ...)."""
+        with self.lock:
+            self.seq += 1
+            msg.seq = self.seq
+            self.items.append(msg)
+
+    def take(self) -> list[Any]:
+        """The commands queued since the last call, oldest first."""
+        with self.lock:
+            out, self.items = self.items, []
+        return out
+
+
+class CommandInput:
+    """The brain's live command input (module docstring).
+
+    Args:
+        sources: where the commands come from (:class:`TopicSource`, :class:`CommandQueue`).
+        limits: the live plan's limits. say: where a dropped command's line goes.
 
     Attributes:
         received, accepted, dropped: commands taken, valid, refused. applied: handed to the controller.
         stopped: a stop was handed to the controller. last_error: the last refusal's line.
     """
 
-    def __init__(self, endpoint: Endpoint, limits: CommandLimits, say: Callable[[str], None]) -> None:
-        self.reader = topic_reader(endpoint, CMD_VEL_TOPIC, VelocityCommand_)
+    def __init__(self, sources: Sequence[CommandSource], limits: CommandLimits, say: Callable[[str], None]) -> None:
+        self.sources = list(sources)
         self.limits, self.say = limits, say
         self.received = self.accepted = self.dropped = self.applied = 0
         self.pending: Any = None
@@ -97,29 +177,35 @@ class CommandInput:
         self.last_error = ""
 
     def poll(self) -> None:
-        """Take every command received; keep the newest valid one (a stop is kept over later commands, which
-        are dropped; a repeated stop is accepted and changes nothing)."""
-        for msg in self.reader.take(N=64):
-            if not isinstance(msg, VelocityCommand_):
-                continue
-            self.received += 1
-            why = check_command(msg, self.limits)
-            stopping = self.stopped or (self.pending is not None and self.pending.stop)
-            if not why and stopping and not msg.stop:
-                why = "VelocityCommand_ after a stop: ignored (the run is ending)"
-            if why:
-                self.drop(why)
-                continue
-            self.accepted += 1
-            if not stopping:  # a repeated stop changes nothing
-                self.pending = msg
+        """Take every command of every source; keep the newest valid one (a stop is kept over later commands,
+        which are dropped; a repeated stop is accepted and changes nothing)."""
+        for source in self.sources:
+            for msg in source.take():
+                self.check(msg, source.name)
 
-    def drop(self, why: str) -> None:
+    def check(self, msg: Any, source: str = CMD_VEL_TOPIC) -> None:
+        """Count ``msg`` from ``source``; keep it when valid, else drop it with its line."""
+        if not isinstance(msg, VelocityCommand_):
+            return
+        self.received += 1
+        why = check_command(msg, self.limits)
+        stopping = self.stopped or (self.pending is not None and self.pending.stop)
+        if not why and stopping and not msg.stop:
+            why = "VelocityCommand_ after a stop: ignored (the run is ending)"
+        if why:
+            self.drop(why, source)
+            return
+        self.accepted += 1
+        if not stopping:  # a repeated stop changes nothing
+            self.pending = msg
+
+    def drop(self, why: str, source: str = CMD_VEL_TOPIC) -> None:
+        """Count a refused command; its line (naming ``source``) for the first :data:`MAX_LINES`."""
         self.dropped += 1
         self.last_error = why
         if self.dropped <= MAX_LINES:
             more = "" if self.dropped < MAX_LINES else " (further drops only counted)"
-            self.say(f"gaitshift: dropped rt/gaitshift/cmd_vel: {why}{more}")
+            self.say(f"gaitshift: dropped {source}: {why}{more}")
 
     def apply(self, ctrl: Any) -> None:
         """Hand the pending command to ``ctrl`` (``command`` or ``stop``); call at a locomotion tick."""
@@ -160,7 +246,7 @@ def _matched(writer: Any) -> bool:
 class KeySteer:
     """Key actions (:data:`gaitshift.cli.keys.KEY_ACTIONS`) as commands: ``up``/``down``, ``left``/``right``,
     ``turn-left``/``turn-right`` change (vx, vy, yaw_rate) by :data:`~gaitshift.scenario.commands.LOCOMOTION_STEP`
-    (0.1 m/s, 0.05 m/s, 0.2 rad/s); ``stop`` (space) sets them to zero (the robot stands, the run goes on);
+    (0.1 m/s, 0.05 m/s, 0.2 rad/s) a press; ``stop`` (space) sets them to zero (the robot stands, the run goes on);
     ``quit`` (q) is the stop command (the run ends)."""
 
     def __init__(self) -> None:

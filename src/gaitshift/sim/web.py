@@ -139,6 +139,7 @@ class WebView:
         self.update_wall: list[float] = []  # wall-clock s of each frame update (measurements)
         self.elevation: Any = None  # the controller's elevation map (attach), drawn every MAP_EVERY frames
         self.status = self.server.gui.add_markdown("waiting for the simulation ...")
+        self.note = ""  # a first line of the panel (the brain's phase), Markdown
         self.sliders: dict[str, Any] = {}
         if controls is not None:
             self._add_controls(controls)
@@ -203,6 +204,15 @@ class WebView:
 
     def __call__(self, _k: int, t: float, d: mujoco.MjData) -> None:
         """The tick hook: apply queued page commands; draw when a frame is due; pace if asked."""
+        self.dispatch(t)
+        self.show(t, d)
+        if self.realtime:
+            lag = t - (time.perf_counter() - self._wall0)
+            if lag > 0:
+                time.sleep(lag)
+
+    def dispatch(self, t: float) -> None:
+        """Hand the page's queued commands to ``on_command`` / ``on_quit`` (at ``t`` s), in the caller's thread."""
         with self._lock:
             pending, self._pending = self._pending, []
         for kind, cmd in pending:
@@ -210,20 +220,20 @@ class WebView:
                 self.on_command(*cmd, t)
             elif kind == "quit" and self.on_quit is not None:
                 self.on_quit(t)
+
+    def show(self, t: float, d: mujoco.MjData) -> None:
+        """Draw the robot posed in ``d`` at plan time ``t`` s when a frame is due (the scene built first)."""
         if self.scene is None:
-            self._build(d.model)
+            self.build(d.model)
         if t + 1e-9 >= self._next:
             self._next += self.period
             w0 = time.perf_counter()
             self.draw(t, d)
             self.update_wall.append(time.perf_counter() - w0)
-        if self.realtime:
-            lag = t - (time.perf_counter() - self._wall0)
-            if lag > 0:
-                time.sleep(lag)
 
-    def _build(self, m: mujoco.MjModel) -> None:
-        """The scene at the first tick: the robot and the overlay nodes (moved by :meth:`draw`)."""
+    def build(self, m: mujoco.MjModel) -> None:
+        """The scene of model ``m``: the robot and the overlay nodes (moved by :meth:`draw`); at the first
+        frame unless called before (a run whose first frames must not wait for it)."""
         self.scene = build_scene(self.backend, self.server, m)
         planes = [g for g in range(m.ngeom) if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE and m.geom_bodyid[g] == 0]
         self.floor = planes[0] if planes else 0
@@ -281,7 +291,7 @@ class WebView:
             if np.all(np.isfinite(cmd)) and math.isfinite(yaw)
             else "commanded: none (a plan over given footsteps)"
         )
-        return (
+        return self.note + (
             f"**t = {t:.2f} s** · gait **{GAITS[int(traj.gait[i])]}**\n\n"
             f"speed: vx = {vh[0]:+.2f} m/s, vy = {vh[1]:+.2f} m/s\n\n"
             f"{commanded}\n\n"
