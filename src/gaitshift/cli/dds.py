@@ -104,9 +104,7 @@ def dds_robot_cmd(
 def dds_control_cmd(
     scenario: str = typer.Argument(..., help="Built-in scenario name or YAML (a short one for a first run)."),
     robot: str | None = typer.Option(None, "--robot", help="Robot name or YAML (default: the scenario's)."),
-    domain: int = typer.Option(
-        1, "--domain", help="DDS domain id (1: simulation; 0, a real robot, needs --real-robot)."
-    ),
+    domain: int = typer.Option(1, "--domain", help="DDS domain id (1: simulation; 0, a robot: --real-robot)."),
     iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
     as_json: bool = typer.Option(False, "--json", help="Print the run's summary as JSON (alone on stdout)."),
     lockstep: bool = typer.Option(False, "--lockstep", help="Tick once per new state instead of every 2 ms."),
@@ -141,9 +139,7 @@ def dds_control_cmd(
         "--known-floor/--unknown-floor",
         help="The robot stands on a flat floor (a scenario without terrain): its height corrects the estimate.",
     ),
-    web: bool = typer.Option(
-        False, "--web", help="Serve a browser page: the robot as the brain estimates it, and live command sliders."
-    ),
+    web: bool = typer.Option(False, "--web", help="A browser page: the robot as estimated, command sliders."),
     web_port: int = web_port_option(),
     teleop: bool = typer.Option(
         False, "--teleop", help="Steer with the keys (arrows/wasd speed, z/x turn, space stand, q stop): a terminal."

@@ -113,7 +113,7 @@ def _page(ctrl: Controller, port: int, limits: CommandLimits | None, queue: Comm
 
 
 @contextlib.contextmanager
-def _keyboard(queue: CommandQueue, say: Callable[[str], None]) -> Iterator[None]:  # pragma: no cover - a TTY
+def _keyboard(queue: CommandQueue, say: Callable[[str], None]) -> Iterator[None]:
     """The keys of stdin (a terminal, in cbreak mode for the block) to ``queue``, one line each on ``say``."""
     from gaitshift.cli.keys import KeyReader, key_loop
     from gaitshift.dds.cmdvel import KeySteer
