@@ -8,20 +8,29 @@ view's ``on_command`` / ``on_quit`` (a :class:`~gaitshift.dds.cmdvel.CommandQueu
 topic's commands), and, when a new estimate came, poses a ``MjData`` of the controller's own model at the
 estimate (``qpos``, ``qvel``: forward kinematics, CoM and its velocity) and draws it with the plan's
 footholds, planned ZMP and commanded speed (:meth:`WebView.show`, at most the view's ``rate`` frames per
-second of plan time). The brain sees no truth, so none is drawn: the robot on the page is its estimate,
-and the measured ZMP (the floor's contact forces) is not shown. viser's server runs in its own threads.
-Before the controller's first tick (damping, stand-up, hold) the panel shows the phase only, and the
-robot is the model at its default pose. The scene is built (0.5-1 s for the G1's meshes) before the run.
+second of plan time). viser's server runs in its own threads. While the page is served, the interpreter's
+thread switch interval is :data:`SWITCH_INTERVAL` (0.5 ms, not Python's 5 ms): the tick waits less for the
+GIL these threads hold.
+
+The brain sees no truth, so none is drawn: the robot on the page is its estimate, and the measured ZMP (the
+floor's contact forces) is not shown. Before the controller's first tick (damping, stand-up, hold) the
+panel shows the phase only, and the robot is the model at its default pose. The scene is built (0.5-1 s
+for the G1's meshes) before the run.
 """
 
 from __future__ import annotations
 
+import sys
 import threading
 from typing import Any
 
 import mujoco
 
-__all__ = ["BrainFeed"]
+__all__ = ["SWITCH_INTERVAL", "BrainFeed"]
+
+#: s: the interpreter's thread switch interval while the page is served (Python's default 5 ms): a thread
+#: waiting for the GIL (the tick) gets it from the drawing thread or viser's within this time
+SWITCH_INTERVAL = 0.0005
 
 
 class BrainFeed:
@@ -42,6 +51,7 @@ class BrainFeed:
         self.view: Any = None
         self.done = threading.Event()
         self.thread: threading.Thread | None = None
+        self.switch = sys.getswitchinterval()  # restored by close
 
     def plan(self) -> Any:
         """The plan of the frame being drawn (the view's ``plan``)."""
@@ -60,6 +70,7 @@ class BrainFeed:
         view.build(m)
         mujoco.mj_kinematics(m, d)
         view.scene.update(d)  # the model at its default pose until the first estimate
+        sys.setswitchinterval(SWITCH_INTERVAL)
         self.thread = threading.Thread(target=self.run, name="gaitshift-web", daemon=True)
         self.thread.start()
 
@@ -80,9 +91,8 @@ class BrainFeed:
             self.phase = phase
             view.note = f"brain: **{phase}** · the robot as the brain estimates it\n\n"
             if record is None:
-                view.status.content = (
-                    f"brain: **{phase}** · waiting for the controller's first tick (the model at its default pose)"
-                )
+                why = "waiting for the controller's first tick (the model at its default pose)"
+                view.status.content = f"brain: **{phase}** · " + (why if self.shown is None else "the robot damps")
         if record is None or record is self.shown or record.estimate is None:
             return
         self.traj = plan
@@ -96,7 +106,8 @@ class BrainFeed:
         self.shown = record
 
     def close(self) -> None:
-        """Stop the drawing thread (waits for its current step)."""
+        """Stop the drawing thread (waits for its current step); the switch interval restored."""
         self.done.set()
         if self.thread is not None:
             self.thread.join()
+        sys.setswitchinterval(self.switch)

@@ -25,7 +25,9 @@ With ``controls`` (a live session) the panel has sliders for vx, vy and the yaw 
 *Stop* (command zero: the robot slows to zero speed and keeps stepping in place) and *End run*
 (stop at rest and end the session).
 The page's callbacks run in viser's threads: they only queue the command, and the hook applies it
-in the simulation thread through ``on_command(vx, vy, yaw_rate, t)`` / ``on_quit(t)``.
+in the simulation thread through ``on_command(vx, vy, yaw_rate, t)`` / ``on_quit(t)``. A caller outside
+the simulation loop (the brain's page, :mod:`gaitshift.dds.brain_web`) calls the hook's two halves itself:
+:meth:`WebView.dispatch` (the queued commands) and :meth:`WebView.show` (a frame when one is due).
 """
 
 from __future__ import annotations
