@@ -92,8 +92,9 @@ class BrainSummary:
         plan_lag_p50, plan_lag_max: ticks a background re-plan's plan came after the tick it was due at
         (NaN inline: none).
         calibration_samples: gyro readings of the hold fed to ``Controller.calibrate`` (0: not calibrated).
-        commands_received, commands_accepted, commands_dropped, commands_applied: ``rt/gaitshift/cmd_vel``
-        samples taken, valid, refused (NaN, out of range, after a stop), handed to the controller;
+        commands_received, commands_accepted, commands_dropped, commands_applied: live commands (of
+        ``rt/gaitshift/cmd_vel``, the browser page and the keys) taken, valid, refused (NaN, out of range,
+        after a stop), handed to the controller;
         command_error: the last refusal's line. estimates_written: ``rt/gaitshift/estimate`` samples.
     """
 
