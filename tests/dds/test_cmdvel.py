@@ -30,7 +30,8 @@ from gaitshift.errors import InputError
 
 LIMITS = CommandLimits(forward=1.0, backward=0.5, sideways=0.3, yaw_rate=0.8)
 #: offsets 35, 37, 38 on test_robot_process.py's pid-derived base (test_brain_process.py: 30-32,
-#: test_brain_steered.py: 36, test_brain_faults.py: 40-41): within DDS's 232
+#: test_brain_steered.py: 36, test_brain_faults.py: 40-41, test_brain_web.py: 42,
+#: test_brain_teleop.py: 43; docs/deploy.md's snippet: 39): within DDS's 232
 BASE_DOMAIN = 100 + os.getpid() % 90 + 35
 
 

@@ -23,7 +23,7 @@ from gaitshift.dds.transport import open_endpoint
 
 N = 29
 #: each test its own domain: pid-derived base (100..189) plus the test's offset (0..29); the last file's
-#: (test_brain_faults.py, 40..41) stays within DDS's 232
+#: (test_brain_teleop.py, 43) stays within DDS's 232
 BASE_DOMAIN = 100 + os.getpid() % 90
 
 
