@@ -4,11 +4,15 @@ the brain's reader keeps the newest valid command, drops and counts the bad ones
 five), hands a command or a stop to the controller only when asked (a locomotion tick), and refuses what
 comes after a stop; a plan that takes no live command is refused for --cmd-topic. ``gaitshift dds cmd``
 sends a command a reader receives, and says so in one line when nobody reads; its --teleop turns the keys
-of ``gaitshift teleop`` into commands, and without a terminal is one line, exit 2."""
+of ``gaitshift teleop`` into commands (keys typed on a pseudo-terminal reach a reader on the topic), and
+without a terminal is one line, exit 2."""
 
 import io
 import math
 import os
+import pty
+import sys
+import threading
 import time
 from types import SimpleNamespace
 
@@ -163,3 +167,27 @@ def test_teleop_without_a_terminal_is_one_line_and_exit_2(cli, monkeypatch):
     monkeypatch.setattr("sys.stdin", io.StringIO("w"))  # not a terminal, even under pytest -s
     code, _, err = cli(["dds", "cmd", "--teleop"])
     assert code == 2 and err.startswith("gaitshift: error: --teleop = 'stdin'") and err.count("\n") == 1
+
+
+def test_teleop_keys_typed_on_a_pty_reach_a_reader_of_the_topic(cli, monkeypatch):
+    """``gaitshift dds cmd --teleop`` with stdin a pseudo-terminal: w, d, q are three commands on the topic."""
+    domain = BASE_DOMAIN - 1  # 34: free on the shared base (see BASE_DOMAIN)
+    inp = CommandInput([TopicSource(open_endpoint(domain, "lo", "controller"))], LIMITS, print)
+    master, slave = pty.openpty()
+    stdin = os.fdopen(slave, "r")
+    monkeypatch.setattr(sys, "stdin", stdin)
+    typing = threading.Timer(1.0, os.write, (master, b"wdq"))  # once the key loop reads the terminal
+    typing.start()
+    try:
+        code, out, _ = cli(["dds", "cmd", "--teleop", "--domain", str(domain)])
+    finally:
+        typing.cancel()
+        stdin.close()
+        os.close(master)
+    take_all(inp, 3)
+    lines = [line.split(" (")[0] for line in out.splitlines()]  # " (no brain reading yet)" if discovery lags
+    assert code == 0 and lines[:2] == [
+        "vx +0.10 m/s, vy +0.00 m/s, yaw_rate +0.00 rad/s",
+        "vx +0.10 m/s, vy -0.05 m/s, yaw_rate +0.00 rad/s",
+    ]
+    assert (inp.received, inp.accepted) == (3, 3) and inp.pending.stop == 1

@@ -281,10 +281,10 @@ def _teleop(domain: int, iface: str) -> None:
 
     if not sys.stdin.isatty():
         raise InputError("--teleop", "stdin", "a terminal to read the keys from")
-    _key_loop(domain, iface)  # pragma: no cover - needs a TTY
+    _key_loop(domain, iface)
 
 
-def _key_loop(domain: int, iface: str) -> None:  # pragma: no cover - needs a TTY
+def _key_loop(domain: int, iface: str) -> None:
     import threading
 
     from gaitshift.cli.dds_live import KEYS_HELP
