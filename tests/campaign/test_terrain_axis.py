@@ -164,4 +164,4 @@ def test_the_report_breaks_survival_down_by_terrain_and_tabulates_the_map():
     md = "\n".join(breakdown_markdown(rows))
     assert "- `terrain`: blind: 50 % (24), known: 100 % (24)" in md
     assert "| scenario | terrain | a/stairs.yaml | blind | 12 | 0 % |" in md  # the worst pair cell
-    assert "| stairs | blind | 12 | 0 of 12 | - | 4.0 / - | - / - | 3.0 |" in md
+    assert "| stairs | blind | 12 | 0 of 12 | - | 4.0 / - | - / - | 3 |" in md

@@ -101,9 +101,9 @@ def breakdown_markdown(rows: list[dict[str, Any]], pairs: int = 12) -> list[str]
     return md + perception_markdown(rows)
 
 
-def _median(rows: list[dict[str, Any]], key: str, scale: float = 1.0) -> str:
+def _median(rows: list[dict[str, Any]], key: str, scale: float = 1.0, digits: int = 1) -> str:
     vals = [r[key] for r in rows if r[key] is not None]
-    return "-" if not vals else f"{scale * statistics.median(vals):.1f}"
+    return "-" if not vals else f"{scale * statistics.median(vals):.{digits}f}"
 
 
 def _least(rows: list[dict[str, Any]], key: str, scale: float = 1.0) -> str:
@@ -132,6 +132,6 @@ def perception_markdown(rows: list[dict[str, Any]]) -> list[str]:
             f"| {sc} | {terrain} | {len(mine)} | {alive} of {len(mine)} | {_median(mine, 'end_x')} | "
             f"{_median(mine, 'map_error_median', 1e3)} / {_median(mine, 'map_error_p95', 1e3)} | "
             f"{_least(mine, 'edge_distance_min', 1e3)} / {_median(mine, 'edge_distance_median', 1e3)} | "
-            f"{_median(mine, 'replans')} |"
+            f"{_median(mine, 'replans', digits=0)} |"
         )
     return md
