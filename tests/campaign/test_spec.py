@@ -58,7 +58,7 @@ def test_range_includes_stop_and_sample_repeats_with_seed():
         ({"speed": {"start": 0.5, "stop": 1.0, "step": 0.0}}, "axes.speed", "empty range"),
         ({"speed": []}, "axes.speed", "non-empty"),
         ({"push_impulse": [10, -5]}, "axes.push_impulse[1]", "[0, 1000]"),
-        ({"terrain": ["flat", "stairs"]}, "axes.terrain[1]", "one of: flat"),
+        ({"terrain": ["known", "stairs"]}, "axes.terrain[1]", "one of: known, blind, perceived"),
         ({"latency": [1.5]}, "axes.latency[0]", "an integer"),
     ],
 )
@@ -87,6 +87,7 @@ def _free_port() -> int:
         ("task: simulate\naxes: {wind: [1]}\n", [], "axes.wind"),
         ("task: simulate\naxes: {speed: {start: 1, stop: 0, step: 0.5}}\n", [], "empty range"),
         ("task: simulate\naxes: {push_impulse: [-3]}\n", [], "axes.push_impulse[0]"),
+        ("task: simulate\naxes: {terrain: [flat]}\n", [], "axes.terrain[0]"),
         ("task: fly\n", [], "task"),
         ("task: plan\naxes: {speed: [0.4]}\n", ["--scheduler", "tcp://127.0.0.1:{port}"], "--scheduler"),
     ],

@@ -8,7 +8,9 @@ times this speed, as the RL anchors state their pushes), push direction degrees 
 scale (factor on the simulated robot's masses only), base CoM offset m (x, y, z in the base frame)
 and motor strength (factor on the motors' torque), the last three on the simulated robot only,
 friction (floor coefficient), latency ticks (sensing + actuation delay), noise (sensor noise profile)
-and its factor, state (what the controller sees), contact (its contact sensing), terrain (``flat`` only), seed.
+and its factor, state (what the controller sees), contact (its contact sensing), terrain (what the
+planner is told of the scenario's terrain: known, blind or perceived, as ``simulate --terrain``; the
+world is always built on it), seed.
 """
 
 from __future__ import annotations
@@ -27,12 +29,11 @@ from gaitshift.scenario.sim_settings import (
     NOISE_PROFILES,
     NOISE_SCALE_RANGE,
     STATE_SOURCES,
+    TERRAIN_KNOWLEDGE,
 )
 
-__all__ = ["AXES", "EXCLUSIVE", "TERRAINS", "Axis", "check_exclusive", "check_value"]
+__all__ = ["AXES", "EXCLUSIVE", "SIMULATED_ONLY", "Axis", "check_exclusive", "check_simulated", "check_value"]
 
-#: terrains the simulator has today
-TERRAINS = ("flat",)
 #: gaits of a locomotion scenario
 GAITS = ("auto", "walk", "run")
 
@@ -73,7 +74,7 @@ AXES: dict[str, Axis] = {
     "noise_scale": Axis("float", 1.0, "factor on every sensor noise", *NOISE_SCALE_RANGE),
     "state": Axis("str", "estimated", "what the controller sees (as simulate: the estimate)", choices=STATE_SOURCES),
     "contact": Axis("str", None, "contact sensing (default: the robot's sensors)", choices=CONTACT_SOURCES),
-    "terrain": Axis("str", "flat", "terrain", choices=TERRAINS),
+    "terrain": Axis("str", None, "what the planner is told of the terrain (the scenario's)", choices=TERRAIN_KNOWLEDGE),
     "seed": Axis("int", 0, "seed of every random draw of the run", 0, 2**32 - 1),
 }
 
@@ -115,4 +116,21 @@ def check_exclusive(values: dict[str, list[Any]]) -> None:
         if len(swept) > 1:
             raise InputError(
                 f"axes.{swept[1]}", values[swept[1]][0], f"no value beside axes.{swept[0]} (one of {group})"
+            )
+
+
+#: axes that only a closed-loop run reads: a plan (task ``plan``, a ``kinematic`` reference) is made on
+#: the scenario's terrain, so a value there would be silently ignored
+SIMULATED_ONLY = ("terrain",)
+
+
+def check_simulated(simulates: bool, values: dict[str, list[Any]]) -> None:
+    """:class:`InputError` when a spec that does not simulate (``simulates`` False) sweeps an axis of
+    :data:`SIMULATED_ONLY` away from its default, naming it."""
+    if simulates:
+        return
+    for name in SIMULATED_ONLY:
+        if values[name] != [AXES[name].default]:
+            raise InputError(
+                f"axes.{name}", values[name][0], "no value unless the task simulates (simulate, closed-loop reference)"
             )

@@ -4,19 +4,31 @@ and the falls counted by cause (the report's tables, :mod:`gaitshift.campaign.re
 Survival of a level = cases that did not fall / cases run without an error at that level of the axis
 (every other axis pooled); numbers drawn at random are binned (:func:`gaitshift.campaign.figures.levels`).
 A pair's worst cell is the (x, y) level pair of lowest survival among the cells with at least
-:data:`MIN_CELL` cases. Causes: the ``fall_cause`` column (:mod:`gaitshift.sim.fall_cause`).
+:data:`MIN_CELL` cases. Causes: the ``fall_cause`` column (:mod:`gaitshift.sim.fall_cause`). The
+perception table (:func:`perception_markdown`) gives, per scenario and terrain (what the planner was
+told), the survival and the elevation map's numbers of the rows that have them.
 """
 
 from __future__ import annotations
 
 import itertools
+import statistics
 from collections import Counter
+from pathlib import Path
 from typing import Any
 
 from gaitshift.campaign.axes import AXES
 from gaitshift.campaign.figures import levels, survival_grid
 
-__all__ = ["MIN_CELL", "axis_survival", "breakdown_markdown", "cause_counts", "swept_axes", "worst_cells"]
+__all__ = [
+    "MIN_CELL",
+    "axis_survival",
+    "breakdown_markdown",
+    "cause_counts",
+    "perception_markdown",
+    "swept_axes",
+    "worst_cells",
+]
 
 #: the fewest cases a cell needs to be the worst of its pair
 MIN_CELL = 10
@@ -72,7 +84,8 @@ def _fmt_level(v: Any) -> str:
 
 
 def breakdown_markdown(rows: list[dict[str, Any]], pairs: int = 12) -> list[str]:
-    """The three tables in Markdown: causes, survival per axis, the ``pairs`` worst pair cells."""
+    """The tables in Markdown: causes, survival per axis, the ``pairs`` worst pair cells, and the
+    perception table when rows have one (:func:`perception_markdown`)."""
     md = ["", "## Falls by cause", "", "| cause | falls | share of falls |", "|---|---|---|"]
     causes = cause_counts(rows)
     total = sum(causes.values())
@@ -85,4 +98,40 @@ def breakdown_markdown(rows: list[dict[str, Any]], pairs: int = 12) -> list[str]
     md += ["| x | y | x level | y level | cases | survival |", "|---|---|---|---|---|---|"]
     for x, y, xv, yv, n, s in worst_cells(rows)[:pairs]:
         md.append(f"| {x} | {y} | {_fmt_level(xv)} | {_fmt_level(yv)} | {n} | {100 * s:.0f} % |")
+    return md + perception_markdown(rows)
+
+
+def _median(rows: list[dict[str, Any]], key: str, scale: float = 1.0, digits: int = 1) -> str:
+    vals = [r[key] for r in rows if r[key] is not None]
+    return "-" if not vals else f"{scale * statistics.median(vals):.{digits}f}"
+
+
+def _least(rows: list[dict[str, Any]], key: str, scale: float = 1.0) -> str:
+    vals = [r[key] for r in rows if r[key] is not None]
+    return "-" if not vals else f"{scale * min(vals):.1f}"
+
+
+def perception_markdown(rows: list[dict[str, Any]]) -> list[str]:
+    """Per scenario and ``terrain`` (the scenario's own when not swept) over the cases run without an
+    error: cases, survival, the median pelvis end x (m), the medians over the cases of the map error's
+    median and p95 under the standing soles (mm), the least and the median edge distance (mm) and the
+    median re-plans; no lines when no row has a map error."""
+    ok = [r for r in _ran(rows) if r.get("map_error_median") is not None]
+    if not ok:
+        return []
+    md = ["", "## Perception (per scenario and what the planner was told of the terrain)", ""]
+    md += ["| scenario | terrain | cases | survival | pelvis end x, m | map error median / p95, mm |"]
+    md[-1] += " edge distance least / median, mm | re-plans |"
+    md.append("|---|---|---|---|---|---|---|---|")
+    groups: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    for r in ok:
+        groups.setdefault((Path(str(r["scenario"])).stem, str(r["terrain"] or "scenario's")), []).append(r)
+    for (sc, terrain), mine in sorted(groups.items()):
+        alive = sum(not r["fell"] for r in mine)
+        md.append(
+            f"| {sc} | {terrain} | {len(mine)} | {alive} of {len(mine)} | {_median(mine, 'end_x')} | "
+            f"{_median(mine, 'map_error_median', 1e3)} / {_median(mine, 'map_error_p95', 1e3)} | "
+            f"{_least(mine, 'edge_distance_min', 1e3)} / {_median(mine, 'edge_distance_median', 1e3)} | "
+            f"{_median(mine, 'replans', digits=0)} |"
+        )
     return md

@@ -6,6 +6,7 @@ spec's run settings (``duration``, ``control_period``, ``reference_mode``, ``ref
 one value per axis of :data:`gaitshift.campaign.axes.AXES`. Its hash is the first 16 hex digits of
 the SHA-256 of its canonical JSON (sorted keys), so that the same case always has the same hash,
 whatever the order of the axes in the spec or the machine: the store's file name and resume key.
+An axis whose default changed hashes that default as before (:data:`FORMER_DEFAULTS`).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from gaitshift.campaign.sampling import draw_columns
 from gaitshift.campaign.spec import MAX_CASES, CampaignSpec
 from gaitshift.errors import InputError
 
-__all__ = ["LOCOMOTION_AXES", "case_hash", "expand", "settings_of"]
+__all__ = ["FORMER_DEFAULTS", "LOCOMOTION_AXES", "case_hash", "expand", "settings_of"]
 
 #: axes that edit a locomotion scenario's command script (other planners have no command to scale)
 LOCOMOTION_AXES = ("speed", "yaw_rate", "gait")
@@ -37,9 +38,19 @@ def settings_of(spec: CampaignSpec) -> dict[str, Any]:
     }
 
 
+#: axis -> (its default now, the value that default was hashed as before): the ``terrain`` axis was
+#: ``flat`` (the only floor) until it said what the planner is told; a case at the default keeps the
+#: hash it had, so older stores resume and the hashes named in the docs stay theirs
+FORMER_DEFAULTS: dict[str, tuple[Any, Any]] = {"terrain": (None, "flat")}
+
+
 def case_hash(case: dict[str, Any]) -> str:
-    """16 hex digits of SHA-256 over the canonical JSON of ``case`` without its ``case_hash``."""
+    """16 hex digits of SHA-256 over the canonical JSON of ``case`` without its ``case_hash`` (an axis
+    at the default of :data:`FORMER_DEFAULTS` counted as its former value)."""
     body = {k: v for k, v in case.items() if k != "case_hash"}
+    for name, (now, before) in FORMER_DEFAULTS.items():
+        if name in body and body[name] == now:
+            body[name] = before
     text = json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -17,8 +17,14 @@ the plan uses, "walk", "run" or "walk+run"), ``fall_reason`` (what touched the f
 ``fall_cause`` (crossing, slip, estimate, torque or reach, :mod:`gaitshift.sim.fall_cause`),
 ``legs_touch_time`` and ``feet_overlap_time`` (s the
 two legs touched each other, :mod:`gaitshift.sim.leg_clearance`), ``plan_duration`` and
-``sim_time`` (s), ``wall_time`` and ``cpu_time`` (s of this process for the whole case: elapsed, and
-CPU time of the process, which is what a shared machine's load does not inflate).
+``sim_time`` (s), ``end_x`` (m, the true pelvis's x at the end), ``replans`` (re-plans the plan
+driver made) and ``replans_refused`` (those a perceived driver did not take), the elevation map's
+numbers when the robot has a depth camera (:mod:`gaitshift.sim.perception_metrics`: ``map_frames``,
+``map_coverage``, ``map_error_median`` / ``_p95`` and ``frame_error_median`` / ``_p95`` m under the
+standing soles, ``edge_distance_min`` / ``_median`` m from a standing sole to the nearest step edge,
+``perception_stopped``: why a perceived walk stopped before an edge), ``wall_time`` and ``cpu_time``
+(s of this process for the whole case: elapsed, and CPU time of the process, which is what a shared
+machine's load does not inflate).
 """
 
 from __future__ import annotations
@@ -33,7 +39,7 @@ import numpy as np
 import gaitshift
 from gaitshift.errors import GaitshiftError
 
-__all__ = ["METRICS", "MOTIONS", "RUNNERS", "edited_scenario", "run_case", "sim_options"]
+__all__ = ["METRICS", "MOTIONS", "PERCEPTION", "RUNNERS", "edited_scenario", "run_case", "sim_options"]
 
 #: result columns besides the case's parameters, and their Arrow types
 METRICS: dict[str, str] = {
@@ -56,12 +62,31 @@ METRICS: dict[str, str] = {
     "contact_accuracy": "float64",
     "base_vel_rmse": "float64",
     "tilt_rmse": "float64",
+    "end_x": "float64",
+    "replans": "int64",
+    "replans_refused": "int64",
+    "map_frames": "int64",
+    "map_coverage": "float64",
+    "map_error_median": "float64",
+    "map_error_p95": "float64",
+    "frame_error_median": "float64",
+    "frame_error_p95": "float64",
+    "edge_distance_min": "float64",
+    "edge_distance_median": "float64",
+    "perception_stopped": "string",
     "wall_time": "float64",
     "cpu_time": "float64",
     "gaitshift_version": "string",
     "error": "string",
     "motion_file": "string",
 }
+
+
+#: the :mod:`gaitshift.sim.perception_metrics` numbers copied into a row under the same names
+PERCEPTION = (
+    "map_coverage", "map_error_median", "map_error_p95", "frame_error_median", "frame_error_p95",
+    "edge_distance_min", "edge_distance_median",
+)  # fmt: skip
 
 
 def _finite(x: Any) -> float | None:
@@ -91,12 +116,16 @@ def edited_scenario(sc: Any, case: dict[str, Any]) -> Any:
 
 
 def sim_options(case: dict[str, Any], cfg: Any) -> dict[str, Any]:
-    """The case's simulation options (None: the scenario's ``sim:`` key, else the default); a push of
-    the case replaces the scenario's pushes. A ``push_velocity`` v becomes the impulse ``s M v`` N s,
+    """The case's simulation options (None: the scenario's ``sim:`` key, else the default; ``terrain``
+    is what the planner is told, as ``simulate --terrain``); a push of the case replaces the scenario's
+    pushes. A ``push_velocity`` v becomes the impulse ``s M v`` N s,
     ``M`` the robot's mass (kg, from its model) and ``s`` the case's mass scale."""
     from gaitshift.sim.pushes import Push
 
-    keys = ("state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale", "contact", "motor_strength")
+    keys = (
+        "state", "noise", "noise_scale", "latency", "friction", "seed", "mass_scale", "contact", "motor_strength",
+        "terrain",
+    )  # fmt: skip
     out = {k: case[k] for k in keys} | {"control_period": case["control_period"]}
     out["com_offset"] = (case["com_offset_x"], case["com_offset_y"], case["com_offset_z"])
     impulse = case["push_impulse"] + case["push_velocity"] * case["mass_scale"] * float(cfg.model().body_mass.sum())
@@ -147,8 +176,25 @@ def _simulate(sc: Any, cfg: Any, case: dict[str, Any]) -> tuple[dict[str, Any], 
         **_plan_facts(run.trajectory),
         "sim_time": float(res.meta["sim_time_s"]),
         **_estimate_row(m),
+        **_perception_row(run),
     }
     return row, res
+
+
+def _perception_row(run: Any) -> dict[str, Any]:
+    """Where the run ended and what its plan driver and elevation map did (None where the run has none:
+    no driver that re-plans, no depth camera, no step edge)."""
+    res = run.result
+    p = res.metrics.get("perception") or {}
+    row = {k: _finite(p.get(k)) for k in PERCEPTION}
+    refused = getattr(run.driver, "refused", None)
+    return row | {
+        "end_x": float(res.arrays["qpos"][-1, 0]) if len(res.arrays["qpos"]) else None,
+        "replans": int(res.meta.get("replans", 0)),
+        "replans_refused": None if refused is None else int(refused),
+        "map_frames": int(p["frames"]) if "frames" in p else None,
+        "perception_stopped": p.get("stopped"),
+    }
 
 
 def _estimate_row(metrics: dict[str, Any]) -> dict[str, Any]:

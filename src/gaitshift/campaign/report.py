@@ -3,7 +3,8 @@
 Writes into ``DIR/report/``: ``survival_speed_push.png`` (speed x push impulse),
 ``survival_speed_push_velocity.png`` (speed x push as a velocity), ``survival_mass_friction.png``
 (mass scale x friction), ``fall_times.png`` and ``summary.md`` (the same maps as Markdown tables, the
-falls by cause, survival per axis and the worst cell of each pair of axes
+falls by cause, survival per axis, the worst cell of each pair of axes and, when the rows have an
+elevation map's numbers, survival and map error per scenario and terrain
 (:mod:`gaitshift.campaign.breakdown`), the per-robot table and the run's totals). A map
 is drawn only when both its axes take two values or more. Cases per hour per core = 3600 / the mean
 ``wall_time`` of one case in its worker (each worker runs one case at a time on one core).

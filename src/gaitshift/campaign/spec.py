@@ -35,7 +35,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import Field, Strict, ValidationError, model_validator
 
-from gaitshift.campaign.axes import AXES, check_exclusive, check_value
+from gaitshift.campaign.axes import AXES, check_exclusive, check_simulated, check_value
 from gaitshift.errors import InputError
 from gaitshift.scenario.fields import StrictModel, input_error
 from gaitshift.scenario.loader import yaml_mapping, yaml_text
@@ -159,7 +159,8 @@ class CampaignSpec(StrictModel):
         interval of a sample spec: its two ends.
 
         Raises:
-            InputError: an unknown axis, an empty list, or a value outside its axis's range.
+            InputError: an unknown axis, an empty list, a value outside its axis's range, or a
+                ``terrain`` in a spec that does not simulate.
         """
         unknown = [k for k in self.axes if k not in AXES]
         if unknown:
@@ -176,7 +177,13 @@ class CampaignSpec(StrictModel):
             vals = [check_value(name, f"axes.{name}[{i}]", v) for i, v in enumerate(raw)]
             out[name] = list(dict.fromkeys(vals))  # duplicates would be the same case
         check_exclusive(out)
+        check_simulated(self.simulates, out)
         return out
+
+    @property
+    def simulates(self) -> bool:
+        """Whether a case runs closed loop (task ``simulate``, a ``closed-loop`` reference)."""
+        return self.task == "simulate" or (self.task == "reference" and self.reference.mode == "closed-loop")
 
     def _interval(self, name: str, given: dict[str, Any]) -> list[Any]:
         """The ends [low, high] of an interval axis (sample specs only, numeric axes only)."""
