@@ -156,33 +156,46 @@ def test_scene_poses_every_moving_body_from_mjdata(backend):
         server.stop()
 
 
-def test_the_view_draws_the_controllers_map_at_its_heights_with_its_edges_red():
+def test_the_view_draws_the_controllers_map_at_its_heights_its_edges_apart_and_its_last_scan():
     """A controller's map holding a 10 cm step: the page's map cloud has one point per seen cell at
-    that cell's centre and height, and the cells on the step's edge are red."""
+    that cell's centre and height, coloured by height; the cells on the step's edge are a red cloud of
+    their own; the perceiver's last scan (its points as the controller placed them) is a cloud after
+    the first tick and is redrawn only when the perceiver has fused a new frame."""
     from types import SimpleNamespace
 
     from gaitshift.api import plan
     from gaitshift.control.perception import ElevationMap, MapSettings
     from gaitshift.sim.plant import build_plant
-    from gaitshift.sim.web import WebView
+    from gaitshift.sim.web import EDGE_COLOR, WebView
 
     emap = ElevationMap(MapSettings(size=1.0, resolution=0.05))
     emap.recenter(np.zeros(2))
     xy = emap.centres().reshape(-1, 2)
     z = np.where(xy[:, 0] > 0.2, 0.1, 0.0)
     emap.fuse(np.column_stack([xy, z]), np.full(len(z), 1e-6))
+    scan = np.random.default_rng(0).uniform(-1.0, 1.0, (700, 3))
+    perceiver = SimpleNamespace(map=emap, scan=scan, frames=1)
     traj = plan("g1-walk")
     m = build_plant(0.002, "g1").model
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
     view = WebView(lambda: traj, port=_free_port())
     try:
-        view.attach(SimpleNamespace(perceiver=SimpleNamespace(map=emap)))
+        view.attach(SimpleNamespace(perceiver=perceiver))
         view(0, 0.0, d)
         pts, cols = view.nodes["map"].points, view.nodes["map"].colors
         assert len(pts) == emap.n**2
         np.testing.assert_allclose(pts[:, 2], np.where(pts[:, 0] > 0.2, 0.1, 0.0), atol=1e-5)
-        red = np.all(cols == (255, 0, 0), axis=1)
-        assert red.sum() == 2 * emap.n and np.all(np.abs(pts[red, 0] - 0.2) < 0.05)
+        assert not np.any(np.all(cols == EDGE_COLOR, axis=1))  # the surface: heights only
+        edges = view.nodes["map_edges"]
+        assert len(edges.points) == 2 * emap.n and np.all(np.abs(edges.points[:, 0] - 0.2) < 0.05)
+        assert tuple(edges.colors) == EDGE_COLOR
+        np.testing.assert_allclose(view.nodes["scan"].points, scan, atol=1e-6)  # float32
+        perceiver.scan = scan[:10]
+        view(1, 0.05, d)  # a frame is due, but no new scan was fused: the cloud stays
+        assert len(view.nodes["scan"].points) == 700
+        perceiver.frames = 2
+        view(2, 0.1, d)
+        np.testing.assert_allclose(view.nodes["scan"].points, scan[:10], atol=1e-6)
     finally:
         view.close()

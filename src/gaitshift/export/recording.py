@@ -127,13 +127,29 @@ class Recording:
             strips = [np.vstack([poly, poly[:1]])] if len(poly) else []
             self.rec.log(entity, self.rr.LineStrips3D(strips, colors=[40, 160, 60]))
 
-    def soles(self, entity: str, steps: np.ndarray, sides: np.ndarray, size: tuple[float, float]) -> None:
-        """Footholds (M, 4: x, y, z, yaw) as flat sole-sized boxes, static."""
+    def soles(
+        self, entity: str, steps: np.ndarray, sides: np.ndarray, size: tuple[float, float], t: float | None = None
+    ) -> None:
+        """Footholds (M, 4: x, y, z m, yaw rad) as flat sole-sized boxes: static, or shown from time
+        ``t`` s on (until the next set logged on ``entity``)."""
         half = [size[0] / 2, size[1] / 2, 0.002]
         quats = [self.rr.Quaternion(xyzw=[0, 0, math.sin(y / 2), math.cos(y / 2)]) for y in steps[:, 3]]
         colors = [[40, 110, 240] if s == 0 else [240, 140, 30] for s in sides]
         boxes = self.rr.Boxes3D(centers=steps[:, :3], half_sizes=[half] * len(steps), quaternions=quats, colors=colors)
-        self.rec.log(entity, boxes, static=True)
+        if t is None:
+            self.rec.log(entity, boxes, static=True)
+        else:
+            self.rec.set_time("time", duration=float(t))
+            self.rec.log(entity, boxes)
+
+    def clouds(
+        self, entity: str, t: np.ndarray, pos: np.ndarray, counts: np.ndarray, radius: float, color: Any
+    ) -> None:
+        """A point cloud per time ``t`` (F,) s: the first ``counts[0]`` rows of ``pos`` (P, 3) m at
+        ``t[0]``, the next ``counts[1]`` at ``t[1]``, ... (one colour, ``radius`` m)."""
+        self.rec.log(entity, self.rr.Points3D.from_fields(radii=radius, colors=color), static=True)
+        cols = self.rr.Points3D.columns(positions=pos).partition(np.asarray(counts, dtype=np.int64))
+        self.rec.send_columns(entity, indexes=self._time(t), columns=cols)
 
 
 def support_polygon(feet: np.ndarray, yaw: np.ndarray, down: np.ndarray, size: tuple[float, float]) -> np.ndarray:

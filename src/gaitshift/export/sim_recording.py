@@ -12,12 +12,21 @@ recording (:mod:`gaitshift.export.recording`), with measured and reference value
                                                   CoM velocity|, |measured CoM velocity|, m/s
 ``timeseries/gait``, ``/phase``, ``events/...``   the plan's gait and phase at the tick's plan sample
 ``timeseries/contact/{left,right}``               measured contact, 0/1
-``world/com``, ``world/feet/...``, ``world/footsteps``  as for a plan (measured)
+``world/com``, ``world/feet/...``                 as for a plan (measured)
+``world/footsteps``                               the planned footholds, each set from the tick the
+                                                  controller's plan changed them on (a re-plan: a
+                                                  perceived run's footholds move onto the map)
 ``world/support``                                 convex hull of the soles in measured contact
 ``world/bodies/<body>``                           every body frame, FK of the logged qpos
 ``world/elevation_map``                           a robot with a depth camera: the controller's map
                                                   as the run ended (seen cells at their heights,
-                                                  coloured by height, edges red), at the last tick
+                                                  coloured by height), at the last tick
+``world/elevation_map/edges``                     its edge cells (a step of more than
+                                                  :data:`~gaitshift.control.perception.EDGE_STEP` to a
+                                                  neighbour), red, larger, at the same time
+``world/scan``                                    each depth frame the controller fused, from its
+                                                  tick on: the points placed with the ESTIMATED
+                                                  camera pose (the brain's view), m
 ``timeseries/map/{left,right}``                   the map's height under each true sole centre, m
 ================================================  ==============================================
 
@@ -42,6 +51,12 @@ from gaitshift.export.recording import (
     scenario_name,
     support_polygon,
 )
+
+#: the scan's points: radius, m, and colour (RGB)
+SCAN_RADIUS = 0.008
+SCAN_COLOR = (235, 60, 200)
+#: the map's edge cells' colour (RGB)
+EDGE_COLOR = (255, 0, 0)
 
 
 def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> dict[str, Any]:
@@ -77,7 +92,7 @@ def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> di
         rec.events("events/gait", t, traj.gait[i], GAITS)
         rec.events("events/phase", t, traj.phase[i], PHASES)
         rec.points("world/com", t, a["com_pos"], 0.03, [220, 30, 30])
-        rec.soles("world/footsteps", traj.footsteps, traj.footstep_side, robot.sole_size)
+        _footholds(rec, a, traj, robot.sole_size)
         polys = [
             support_polygon(soles[f, :, 0], soles[f, :, 1, 0], a["contact"][k], robot.sole_size)
             for f, k in enumerate(idx)
@@ -86,6 +101,9 @@ def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> di
         rec.frames(names, t[idx], pos, quat)
         if "map_heights" in a:
             _elevation_map(rec, a)
+        if "scan_t" in a:
+            counts = np.bincount(a["scan_frame"], minlength=len(a["scan_t"]))
+            rec.clouds("world/scan", a["scan_t"], a["scan_points"], counts, SCAN_RADIUS, SCAN_COLOR)
         rec.close()
     return {"ticks": len(t), "frames": len(idx), "bodies": len(names)}
 
@@ -105,8 +123,21 @@ def _elevation_map(rec: Recording, a: dict[str, np.ndarray]) -> None:
     r = float(a["map_resolution"])
     pos, shade, edge = seen_cells(a["map_heights"], seen, a["map_corner"], r)
     colors = (255 * colormaps["viridis"](shade)[:, :3]).astype(np.uint8)
-    colors[edge] = (255, 0, 0)
     rec.cloud("world/elevation_map", float(t[-1]), pos, colors, r / 2)
+    if edge.any():
+        red = np.full((int(edge.sum()), 3), EDGE_COLOR, dtype=np.uint8)
+        rec.cloud("world/elevation_map/edges", float(t[-1]), pos[edge], red, 0.7 * r)
+
+
+def _footholds(rec: Recording, a: dict[str, np.ndarray], traj: Any, size: tuple[float, float]) -> None:
+    """Each logged set of planned footholds from its time on; the final plan's, static, for a log
+    without them."""
+    if "footholds_t" not in a:
+        rec.soles("world/footsteps", traj.footsteps, traj.footstep_side, size)
+        return
+    for g, tg in enumerate(a["footholds_t"]):
+        mine = a["footholds_set"] == g
+        rec.soles("world/footsteps", a["footholds"][mine], a["footholds_side"][mine], size, float(tg))
 
 
 def _body_frames(robot: Any, qpos: np.ndarray) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:

@@ -1,7 +1,10 @@
-"""The per-tick log of a closed-loop run: preallocated arrays, one row per control tick."""
+"""The log of a closed-loop run: preallocated arrays, one row per control tick; and the events between
+ticks: the depth scans the controller fused (:class:`ScanLog`) and each new set of planned footholds
+(:class:`FootholdLog`)."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import mujoco
@@ -165,3 +168,75 @@ class PerceptionLog:
         if not self.height:
             return {}
         return {"map_height": np.array(self.height[:n]), "map_known": np.array(self.known[:n]), **self._final()}
+
+
+#: the most points of one scan the run's log keeps (more are thinned evenly: every ceil(M / SCAN_POINTS)-th)
+SCAN_POINTS = 1024
+
+
+class ScanLog:
+    """The depth camera's scans as the controller placed them (:attr:`Perceiver.scan
+    <gaitshift.control.perception.perceiver.Perceiver.scan>`: the frame's points put into the world
+    with the camera pose of the ESTIMATED state; the brain's view, never the world's truth), one per
+    frame fused: ``scan_t`` (F,) plan time s of the tick that fused each frame, ``scan_points`` (P, 3)
+    float32 m (world frame, z up; at most :data:`SCAN_POINTS` a frame) and ``scan_frame`` (P,) int32,
+    the frame each point belongs to. Empty when the robot has no depth camera."""
+
+    def __init__(self) -> None:
+        self.t: list[float] = []
+        self.points: list[np.ndarray] = []
+        self._frames = 0
+
+    def record(self, tp: float, perceiver: Any) -> None:
+        """At plan time ``tp`` s: the perceiver's last scan, if it fused a frame since the last call."""
+        if perceiver.frames == self._frames:
+            return
+        self._frames = perceiver.frames
+        pts = np.asarray(perceiver.scan, dtype=np.float32)
+        self.t.append(tp)
+        self.points.append(pts[:: max(1, math.ceil(len(pts) / SCAN_POINTS))])
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every scan logged, or nothing (no camera, or no frame fused)."""
+        if not self.t:
+            return {}
+        return {
+            "scan_t": np.asarray(self.t),
+            "scan_points": np.concatenate(self.points),
+            "scan_frame": np.repeat(np.arange(len(self.t), dtype=np.int32), [len(p) for p in self.points]),
+        }
+
+
+class FootholdLog:
+    """The planned footholds each time the controller's plan changed them (a driver's re-plans, a
+    perceived run's moves onto the map): ``footholds_t`` (G,) plan time s of each set,
+    ``footholds`` (S, 4) (x, y, z m world frame, yaw rad), ``footholds_side`` (S,) int8 (0 left,
+    1 right) and ``footholds_set`` (S,) int32, the set each foothold belongs to. The first set is the
+    plan's at the first tick."""
+
+    def __init__(self) -> None:
+        self.t: list[float] = []
+        self.sets: list[tuple[np.ndarray, np.ndarray]] = []
+        self._traj: Any = None
+
+    def record(self, tp: float, traj: Any) -> None:
+        """At plan time ``tp`` s: the plan ``traj``'s footholds, if they differ from the last set."""
+        if traj is self._traj:
+            return
+        self._traj = traj
+        steps = np.array(traj.footsteps, dtype=float).reshape(-1, 4)
+        if self.sets and np.array_equal(steps, self.sets[-1][0]):
+            return
+        self.t.append(tp)
+        self.sets.append((steps, np.array(traj.footstep_side, dtype=np.int8)))
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every set, or nothing when none was recorded."""
+        if not self.sets:
+            return {}
+        return {
+            "footholds_t": np.asarray(self.t),
+            "footholds": np.concatenate([s for s, _ in self.sets]),
+            "footholds_side": np.concatenate([side for _, side in self.sets]),
+            "footholds_set": np.repeat(np.arange(len(self.sets), dtype=np.int32), [len(s) for s, _ in self.sets]),
+        }

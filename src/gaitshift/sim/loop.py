@@ -42,7 +42,7 @@ from gaitshift.sim.bumps import Bump, check_bumps
 from gaitshift.sim.estimation_metrics import sensing_metrics
 from gaitshift.sim.latency import CommandDelay
 from gaitshift.sim.leg_clearance import LegClearance
-from gaitshift.sim.log import EstimationLog, PerceptionLog, TickLog
+from gaitshift.sim.log import EstimationLog, FootholdLog, PerceptionLog, ScanLog, TickLog
 from gaitshift.sim.metrics import summarize
 from gaitshift.sim.perception_metrics import perception_metrics
 from gaitshift.sim.perturb import check_com_offset, check_joint_vel_noise, check_mass_scale, check_motor_strength
@@ -176,6 +176,8 @@ class _Run:
         self.log = TickLog(min(self.n_ticks, round(60.0 / self.dt)), world.plant.model)
         self.est_log = EstimationLog()
         self.map_log = PerceptionLog()
+        self.scan_log = ScanLog()
+        self.foothold_log = FootholdLog()
         self.sense_hooks: tuple[TickHook, ...] = ()
         for hook in self.hooks:
             attach = getattr(hook, "attach", None)
@@ -240,11 +242,14 @@ class _Run:
         )  # fmt: skip
         if rec.estimate is not None:
             self.est_log.record(rec.estimate)
+        self.foothold_log.record(tp, self.ctrl.trajectory)
         if self.ctrl.perceiver is not None:
             self.map_log.record(self.ctrl.perceiver.map, feet[:, :2])
+            self.scan_log.record(tp, self.ctrl.perceiver)
 
     def _result(self, n_done: int, wall: float, fell: bool, fall_time: float, reason: str) -> SimResult:
         arrays = {**self.log.arrays(n_done), **self.est_log.arrays(n_done), **self.map_log.arrays(n_done)}
+        arrays |= self.scan_log.arrays() | self.foothold_log.arrays()
         result = SimResult(arrays, fell, fall_time, reason, self._meta(n_done, wall), {})
         result.metrics = summarize(result, self.ctrl.trajectory, self.world.plant.torque_limit)
         result.metrics.update(sensing_metrics(result.arrays, self.ctrl.source))

@@ -23,8 +23,10 @@ class SimResult:
     ``contact_ref``, ``stance`` (controller), ``grf`` (N, 2, 3) measured, ``grf_ref`` (QP), ``foot_pos``,
     ``foot_ref``, ``angmom``, ``com_shift``, ``plan_index``, ``qp_ok``, ``push_force``, ``legs_touch``,
     ``feet_overlap``; see
-    :mod:`gaitshift.sim.log`), ``fell``, ``fall_time`` (s; -1 when the robot did not fall) and ``meta``
-    (strict JSON, with the metrics).
+    :mod:`gaitshift.sim.log`; and, not per tick, the scans the controller fused ``scan_t``,
+    ``scan_points``, ``scan_frame`` and the footholds each time the plan changed them ``footholds_t``,
+    ``footholds``, ``footholds_side``, ``footholds_set``), ``fell``, ``fall_time`` (s; -1 when the robot
+    did not fall) and ``meta`` (strict JSON, with the metrics).
     """
 
     arrays: dict[str, np.ndarray]

@@ -15,8 +15,14 @@ before the run starts); the scene is built at the first tick from ``d.model``
   ``p = sum_i f_z,i c_i / sum_i f_z,i`` (green disc; hidden in flight), and the planned ZMP of the
   sample being tracked (small dark green sphere);
 - the controller's elevation map (a robot with a depth camera, :mod:`gaitshift.control.perception`):
-  its seen cells at their heights, coloured by height, its edges red, redrawn every
+  its seen cells at their heights, coloured by height, and its edge cells (a step of more than
+  :data:`~gaitshift.control.perception.EDGE_STEP` to a neighbour) as larger red points, redrawn every
   :data:`MAP_EVERY` frames;
+- the latest depth scan the controller fused (:attr:`Perceiver.scan
+  <gaitshift.control.perception.perceiver.Perceiver.scan>`: the frame's points placed with the
+  ESTIMATED camera pose, the brain's view, not the world's truth), magenta, redrawn at each frame that
+  has a new scan (the camera's 30 Hz against the view's 30 Hz: about every frame), at most
+  :data:`SCAN_POINTS` points (thinned evenly);
 - a status panel: plan time, gait, measured CoM speed in the heading frame (m/s), the command the
   plan carries at that sample (vx, vy m/s, yaw rate rad/s), the real-time factor (simulated s per
   wall-clock s since the first tick) and the page updates per second.
@@ -55,6 +61,10 @@ SLIDER_STEP = 0.05
 MAP_EVERY = 15
 #: sole outline drawn at each foothold (length, width), m
 SOLE = (0.20, 0.09)
+#: the most points of a scan drawn (the G1's camera gives at most 32 x 24 = 768)
+SCAN_POINTS = 1024
+#: colours (RGB) of the scan's points and of the map's edge cells
+SCAN_COLOR, EDGE_COLOR = (235, 60, 200), (255, 0, 0)
 
 
 @dataclass(frozen=True)
@@ -140,6 +150,9 @@ class WebView:
         self._steps_key: int | None = None  # a hash of the footholds drawn
         self.update_wall: list[float] = []  # wall-clock s of each frame update (measurements)
         self.elevation: Any = None  # the controller's elevation map (attach), drawn every MAP_EVERY frames
+        self.perceiver: Any = None  # the controller's perceiver (attach): its last scan, drawn when new
+        self._scan_frames = 0  # the perceiver's frame count at the scan drawn
+        self.draw_scan = True  # False: the scan is not drawn (the map still is; a measurement's baseline)
         self.status = self.server.gui.add_markdown("waiting for the simulation ...")
         self.note = ""  # a first line of the panel (the brain's phase), Markdown
         self.sliders: dict[str, Any] = {}
@@ -166,31 +179,46 @@ class WebView:
         end.on_click(lambda _: self._queue("quit", (0.0, 0.0, 0.0)))
 
     def attach(self, ctrl: Any) -> None:
-        """The run's controller (:data:`gaitshift.sim.loop.TickHook`): its elevation map, when its robot
-        has a depth camera, is drawn as coloured cells with its edges in red."""
-        self.elevation = ctrl.perceiver.map if getattr(ctrl, "perceiver", None) is not None else None
+        """The run's controller (:data:`gaitshift.sim.loop.TickHook`): when its robot has a depth camera,
+        its elevation map is drawn (cells coloured by height, edges red) and its last scan (magenta)."""
+        self.perceiver = getattr(ctrl, "perceiver", None)
+        self.elevation = self.perceiver.map if self.perceiver is not None else None
 
     def _draw_map(self) -> None:
-        """The map's seen cells at their heights (coloured by height) and its edges (red)."""
+        """The map's seen cells at their heights (coloured by height) and its edge cells (red, larger)."""
         from matplotlib import colormaps
 
         from gaitshift.control.perception import seen_cells
 
         assert self.scene is not None
-        m = self.elevation
+        m, sc = self.elevation, self.server.scene
         if not m.known.any():
             return
         r = m.settings.resolution
         points, shade, edge = seen_cells(m.height, m.known, m.corner * r, r)
-        rgb = colormaps["viridis"](shade)[:, :3]
-        rgb[edge] = (1.0, 0.0, 0.0)
-        self.nodes["map"] = self.server.scene.add_point_cloud(
-            f"{self.scene.root}/elevation_map",
-            points.astype(np.float32),
-            (255 * rgb).astype(np.uint8),
-            point_size=0.03,
-            precision="float32",
-        )
+        rgb = (255 * colormaps["viridis"](shade)[:, :3]).astype(np.uint8)
+        xyz = points.astype(np.float32)
+        root = self.scene.root
+        self.nodes["map"] = sc.add_point_cloud(f"{root}/elevation_map", xyz, rgb, point_size=0.03, precision="float32")
+        if edge.any() or "map_edges" in self.nodes:
+            self.nodes["map_edges"] = sc.add_point_cloud(
+                f"{root}/map_edges", xyz[edge], EDGE_COLOR, point_size=0.045, precision="float32"
+            )
+
+    def _draw_scan(self) -> None:
+        """The perceiver's last scan (world frame as the controller estimates it), when it has a new one."""
+        p = self.perceiver
+        if p.frames == self._scan_frames or not len(p.scan):
+            return
+        self._scan_frames = p.frames
+        pts = np.asarray(p.scan[:: max(1, math.ceil(len(p.scan) / SCAN_POINTS))], dtype=np.float32)
+        if "scan" in self.nodes:
+            self.nodes["scan"].points = pts
+        else:
+            assert self.scene is not None
+            self.nodes["scan"] = self.server.scene.add_point_cloud(
+                f"{self.scene.root}/scan", pts, SCAN_COLOR, point_size=0.015, precision="float32"
+            )
 
     def _slider_command(self) -> tuple[float, float, float]:
         return (float(self.sliders["vx"].value), float(self.sliders["vy"].value), float(self.sliders["yaw"].value))
@@ -277,6 +305,8 @@ class WebView:
             self._frames += 1
             if self.elevation is not None and self._frames % MAP_EVERY == 1:
                 self._draw_map()
+            if self.perceiver is not None and self.draw_scan:
+                self._draw_scan()
             if self._frames % 6 == 1:
                 self.status.content = self.status_text(t, d, traj, i)
         self.server.flush()

@@ -46,6 +46,12 @@ class Perceiver:
     Args:
         model: the controller's ``MjModel`` (it carries the camera site). camera: the camera's facts.
         settings: the map's size and resolution.
+
+    Attributes:
+        map: the elevation map. frames: frames fused. last_t: the last frame's time, s. scan: the last
+        frame's points (M, 3) m placed by eq. (1), in the world frame as the controller estimates it
+        (what the browser view and the run's log draw: the brain's view of the scan, never the truth).
+        cost_us: the last frame's cost, µs.
     """
 
     def __init__(self, model: Any, camera: DepthCamera, settings: MapSettings | None = None) -> None:
@@ -53,6 +59,7 @@ class Perceiver:
         self.camera = camera
         self.map = ElevationMap(settings)
         self.last_t: float | None = None
+        self.scan = np.zeros((0, 3))  # the last frame's points placed by eq. (1): world frame (estimated), m
         self.frames = 0
         self.cost_us = 0.0  # the last frame's cost, µs
 
@@ -72,6 +79,6 @@ class Perceiver:
             m.age(max(0.0, t - self.last_t))
         m.recenter(data.qpos[:2])
         m.fuse(world, var)
-        self.last_t = t
+        self.last_t, self.scan = t, world
         self.frames += 1
         self.cost_us = (time.perf_counter() - t0) * 1e6
