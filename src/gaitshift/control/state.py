@@ -10,8 +10,14 @@ Per tick::
 
 The controller, the driver and the step feedback read only :class:`StateView`: the controller's
 ``MjData`` (CoM = ``subtree_com[0]``, its velocity = ``subtree_linvel[0]``, frames and Jacobians all
-from the one state), the stance flags (force-based with hysteresis for the estimate, the frame's
-oracle contact for the oracle) and the slip flags. The estimator also runs when the controller acts on
+from the one state), the contact flags (the estimator's fused contact for the estimate, the frame's
+oracle contact for the oracle) and the slip flags. The contact flags are what the foot scheduler's
+touch-down events read: a walking foot grazes the floor with a few newtons about 15 ticks before the
+plan's touch-down, and a foot the controller still takes for a swinging one is driven along its swing
+while the floor holds it (the stance hip yaw of the G1 at its torque limit in running turns,
+docs/deploy.md). The force trigger, which the base filter pins its soles on, took those touch-downs a
+median 16 ticks late (g1-walk, seed 0, torque contact); the fused contact, with its landing rule
+(:mod:`gaitshift.control.estimation.contact_fusion`), 1 tick early. The estimator also runs when the controller acts on
 the oracle (its output unused), so every run reports how well it tracks. The first tick is the start
 state at rest, both feet down on a level floor: the plan's start pose with the joints its encoders measure
 and the base tilt that puts the soles level (:func:`~gaitshift.control.initial_pose.sensed_start`); the
@@ -273,7 +279,7 @@ class ControllerState:
         if self.oracle:
             q, v, touching, slip = self._oracle(frame)
         else:
-            q, v, touching, slip = q_est, v_est, touch_est, slip_est
+            q, v, touching, slip = q_est, v_est, np.asarray(fused, bool), slip_est
         view = self._view(q, v, touching, slip)
         c = self.cdata
         if com is None or com_vel is None:  # the first tick: the start state, which the controller's data holds

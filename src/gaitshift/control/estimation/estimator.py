@@ -19,12 +19,12 @@ toe keeps a support point still, a slide moves every point. A sole whose centre 
 pivots: the same low-pass, ``|LP(v_c)|_xy > slip_speed``) is no contact for the filter at the next tick:
 the filter takes the sole centre as a still point, so its kinematics would drag the base estimate.
 
-Two contact flags. ``stance`` (the force trigger alone) is what the base filter, the slip test and,
-in the loop, the foot scheduler's touchdown events use: a sole the filter pins, or the controller
-loads, must carry a clear force (a lightly loaded sole can slide). ``contact`` is the estimate of
-"the sole touches the floor": force, the sole's lowest point ``z_low`` and vertical speed ``vz`` from
-this tick's estimate, and the plan's contact flags ``planned`` when the caller gives them, fused
-(:mod:`gaitshift.control.estimation.contact_fusion`).
+Two contact flags. ``stance`` (the force trigger alone) is what the base filter and the slip test
+use: a sole the filter pins must carry a clear force (a lightly loaded sole can slide). ``contact`` is
+the estimate of "the sole touches the floor": force, the sole's lowest point ``z_low`` and vertical
+speed ``vz`` from this tick's estimate, and the plan's contact flags ``planned`` when the caller gives
+them, fused (:mod:`gaitshift.control.estimation.contact_fusion`); in the loop, the foot scheduler's
+touch-down events use it (:mod:`gaitshift.control.state`).
 
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
