@@ -102,10 +102,10 @@ def _touchdown_delays(a: dict) -> np.ndarray:
 
 def test_the_controller_takes_a_foot_for_landed_when_it_touches_the_floor(default_run):
     """Walking feet touch the floor about 15 ticks before the plan's touch-down (a heel grazing with a
-    few newtons); the scheduler takes a swing foot for landed from the estimator's fused contact (a
-    landing: the sole back at the ground level), not when the force from the motors' torques crosses
-    its threshold. Against the truth's touch-downs, on torque contact: median 16 ticks late with the
-    force trigger (g1-walk, seed 0), -1 to 0 with the fused contact."""
+    few newtons); the scheduler takes a swing foot for landed when the estimator sees a landing (the
+    sole back at the ground level while the other stands), not only once the force from the motors'
+    torques crosses its threshold. Against the truth's touch-downs, on torque contact (g1-walk, seed
+    0): median 16 ticks late with the force trigger alone."""
     delays = _touchdown_delays(default_run.arrays)
     assert len(delays) >= 10
     assert abs(np.median(delays)) <= 2 and np.percentile(delays, 90) <= 6, delays

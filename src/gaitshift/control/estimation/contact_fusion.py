@@ -56,14 +56,14 @@ Without a plan (``planned=None``) the plan's rest and swing rules are off.
 **Landing.** ``armed_i``: sole ``i`` is off and its lowest point has risen more than ``lift`` above the
 ground level since it was last on (it left the floor). An armed sole whose lowest point comes back to
 within ``near`` of the ground level while the other sole is on has landed, whatever the plan's
-schedule and the force say, and a
-landing holds it on (``landing_i``) while it stays within ``near`` until its mean force confirms it
-(``fbar_i > on``; the usual rules from then on) or the veto releases it. A foot lands heel or edge
-first and grazes the floor with a few newtons for 5-20 ms before its load comes, often before the
-plan's touch-down (G1 walk, seed 0: 1-10 N over 10 ticks, the sole's centre still descending at
-30-130 mm/s, so neither ``rest_i`` nor the force can tell it): on torque contact those touch-downs
-were found 3.5 ticks late on average (81 of 160 wrong ticks); with the landing rule 2 (docs/robots.md).
-A swing sole does not come within ``near`` of the ground level before it lands unless it scuffs the
+schedule and the force say, and a landing holds it on (``landing_i``, :attr:`ContactFusion.landing`)
+while it stays within ``near`` until its mean force confirms it (``fbar_i > on``; the usual rules from
+then on) or the veto releases it. A foot lands heel or edge first and grazes the floor with a few
+newtons for 5-20 ms before its load comes, often before the plan's touch-down (G1 walk, seed 0: 1-10 N
+over 10 ticks, the sole's centre still descending at 30-130 mm/s, so neither ``rest_i`` nor the force
+can tell it); the foot scheduler takes its touch-downs from a landing too (docs/estimation.md,
+"Touch-downs from a landing"). The ground level is the loaded sole's lowest point, pressed into the
+floor, so a landing is seen 2-4 ticks before the first force (g1-walk, seeds 0 and 2). A swing sole does not come within ``near`` of the ground level before it lands unless it scuffs the
 floor. The other sole must be on: after a flight the ground level is a height remembered across a
 phase where nothing observes the base height, and the estimate drifts there by far more than ``near``
 (g1-top-speed, seed 0: the landing sole's estimated lowest point crossed the remembered ground level
@@ -137,7 +137,9 @@ class ContactFusion:
         self._stand: list[float | None] = [None, None]
         #: per sole (2,): the kinematics rule out a load at this tick (module docstring, ``veto_i``)
         self.veto = [False, False]
-        self._armed, self._landing = [False, False], [False, False]  # module docstring, "Landing"
+        self._armed = [False, False]  # module docstring, "Landing"
+        #: per sole (2,): on by a landing, its force not yet confirming it (module docstring, ``landing_i``)
+        self.landing = [False, False]
 
     def update(
         self,
@@ -190,7 +192,7 @@ class ContactFusion:
         stand = self._stand[i]
         lifted = stand is not None and height - stand > LIFT_HEIGHT and v > self.still
         veto = self.veto[i] = has_plan and not plan and (lifted or speed > SWING_SPEED)
-        landing = self._landing[i] and near
+        landing = self.landing[i] and near
         if veto:
             on = landing = False
             self._cusum[i] = 0.0
@@ -206,6 +208,6 @@ class ContactFusion:
             on = mean > self.on_force
             self._cusum[i] = 0.0
         self._state[i] = on
-        self._landing[i] = landing and mean <= self.on_force
+        self.landing[i] = landing and mean <= self.on_force
         self._armed[i] = not on and (self._armed[i] or (ground is not None and height - ground > LIFT_HEIGHT))
         return on
