@@ -10,8 +10,15 @@ Per tick::
 
 The controller, the driver and the step feedback read only :class:`StateView`: the controller's
 ``MjData`` (CoM = ``subtree_com[0]``, its velocity = ``subtree_linvel[0]``, frames and Jacobians all
-from the one state), the stance flags (force-based with hysteresis for the estimate, the frame's
-oracle contact for the oracle) and the slip flags. The estimator also runs when the controller acts on
+from the one state), the contact flags (for the estimate: the force trigger's stance flags, or a
+landing the fused contact sees; for the oracle: the frame's oracle contact) and the slip flags. The
+contact flags are what the foot scheduler's touch-down events read. A walking foot grazes the floor
+with a few newtons about 15 ticks before the plan's touch-down, and a foot the controller still takes
+for a swinging one is driven along its swing while the floor holds it. The force trigger alone took
+those touch-downs a median 16 ticks late (g1-walk, seed 0, contact from torques); a landing (the sole
+back at the ground level after it left the floor, the other sole standing:
+:mod:`gaitshift.control.estimation.contact_fusion`) takes them 2 ticks early (docs/estimation.md,
+"Touch-downs from a landing"). The estimator also runs when the controller acts on
 the oracle (its output unused), so every run reports how well it tracks. The first tick is the start
 state at rest, both feet down on a level floor: the plan's start pose with the joints its encoders measure
 and the base tilt that puts the soles level (:func:`~gaitshift.control.initial_pose.sensed_start`); the
@@ -260,6 +267,7 @@ class ControllerState:
             q_est, v_est = self.start, np.zeros(self.robot.model.nv)
             touch_est, slip_est, com, com_vel, cost = np.ones(2, bool), np.zeros(2, bool), None, None, 0.0
             fused, self._last_t = touch_est, frame.t
+            landing = np.zeros(2, bool)
         else:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
             self._bridge(frame, imu, planned)
@@ -269,11 +277,11 @@ class ControllerState:
             s = self.estimator.step(imu, joints, forces, planned)
             cost = 1e6 * (time.perf_counter() - t0)
             q_est, v_est, touch_est, slip_est, com, com_vel = s.qpos(), s.qvel(), s.stance, s.slip, s.com, s.com_vel
-            fused = s.contact
+            fused, landing = s.contact, self.estimator.landing
         if self.oracle:
             q, v, touching, slip = self._oracle(frame)
         else:
-            q, v, touching, slip = q_est, v_est, touch_est, slip_est
+            q, v, touching, slip = q_est, v_est, touch_est | landing, slip_est
         view = self._view(q, v, touching, slip)
         c = self.cdata
         if com is None or com_vel is None:  # the first tick: the start state, which the controller's data holds

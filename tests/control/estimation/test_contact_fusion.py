@@ -4,7 +4,8 @@ moves; an off sole resting at the ground switches on in the plan's stance only; 
 load on a sole at the ground level is found by the CUSUM within its expected delay while pure noise
 there rarely switches it on, and the same load above the ground band is left to the force trigger; in
 the plan's swing the latest sample releases the sole at once, and so does a rise off the sole's own
-stand; bad settings raise InputError."""
+stand; a sole that left the floor is on again as soon as it is back at the ground level (a landing),
+whatever its force and the plan; bad settings raise InputError."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from gaitshift.control.estimation.contact_fusion import (
     CUSUM_SHIFT,
     CUSUM_THRESHOLD,
     LIFT_HEIGHT,
+    NEAR_HEIGHT,
     SWING_SPEED,
     ContactFusion,
 )
@@ -68,18 +70,50 @@ def test_a_resting_sole_stays_on_below_the_noise_and_is_released_when_it_rises()
     assert not raised[5:].any()
     moving = _run(_fusion(), light, GROUND, TRUE, vz=0.3)  # not resting: the force (and its CUSUM) decide
     assert not moving[0] and moving.mean() < 0.2
-    unplanned = _fusion()
-    _run(unplanned, np.zeros(3), HIGH, FALSE)  # off, in swing
+    unplanned = _off_at_the_ground()
     assert _run(unplanned, np.zeros(1), GROUND, TRUE)[0]  # resting at the ground in the plan's stance: on
-    swing = _fusion()
-    _run(swing, np.zeros(3), HIGH, FALSE)
+    swing = _off_at_the_ground()
     assert not _run(swing, np.zeros(1), GROUND, FALSE)[0]  # the same in the plan's swing: the force decides
+
+
+def _off_at_the_ground() -> ContactFusion:
+    """A fusion whose left sole was switched off at the ground level without rising (not armed)."""
+    det = _fusion()
+    assert not _run(det, np.zeros(1), GROUND, FALSE, vz=0.3)[0]  # unloaded, moving: off where it stood
+    return det
+
+
+def test_a_sole_that_left_the_floor_is_on_when_it_comes_back_to_the_ground_level():
+    """A landing: a sole that rose more than LIFT_HEIGHT switches on at the first tick its lowest point
+    is back within the ground band, with no force and in the plan's swing (a graze before the planned
+    touch-down), stays on there while its force stays below the noise, and is off again once it rises
+    out of the band (a bounce) or moves faster than a loaded sole can; a sole landing on a tread
+    above the ground level, one that never left the floor, or one landing from a flight (the other
+    sole off too) is left to the force."""
+    band = 0.5 * NEAR_HEIGHT
+    det = _fusion()
+    _run(det, np.zeros(3), HIGH, FALSE)  # lifted: off, armed
+    assert not _run(det, np.zeros(3), 2 * NEAR_HEIGHT, FALSE, vz=-0.1).any()  # descending, not yet in the band
+    assert _run(det, np.full(40, 0.2 * STD), band, FALSE, vz=-0.1).all()  # landed: held on below the noise
+    assert not _run(det, np.zeros(2), 2 * NEAR_HEIGHT, FALSE, vz=0.1).any()  # out of the band again: off
+    fast = _fusion()
+    _run(fast, np.zeros(3), HIGH, FALSE)
+    flags = [fast.update(np.array([0.0, WEIGHT / 2]), np.array([band, GROUND]), np.zeros(2), FALSE,
+                         np.array([1.5 * SWING_SPEED, 0.0]))[0] for _ in range(2)]  # fmt: skip
+    assert flags == [False, False]  # the veto: faster than a loaded sole moves
+    tread = _fusion()
+    _run(tread, np.zeros(3), 0.1 + HIGH, FALSE)
+    assert not _run(tread, np.zeros(3), 0.1, FALSE).any()  # on a tread 10 cm up, unloaded: the force decides
+    assert not _run(_off_at_the_ground(), np.zeros(3), band, FALSE).any()  # never left the floor
+    flight = _fusion()
+    for z in (HIGH, band, band):  # both soles off the floor (a running flight): the ground level is a memory
+        flags = flight.update(np.zeros(2), np.array([z, HIGH]), np.zeros(2), FALSE)
+    assert not flags.any()
 
 
 def test_a_graze_at_the_ground_level_is_found_and_noise_is_not():
     rng = np.random.default_rng(3)
-    det = _fusion()
-    _run(det, np.zeros(3), HIGH, FALSE)  # off, in swing
+    det = _off_at_the_ground()  # off, in swing, not armed (a landing would switch it on at once)
     graze = 1.0 * STD + rng.normal(0, STD, 200)  # 6.6 N sustained: below the on threshold (26 N)
     flags = _run(det, graze, GROUND, FALSE)
     first = int(np.argmax(flags))
@@ -88,13 +122,12 @@ def test_a_graze_at_the_ground_level_is_found_and_noise_is_not():
     high = _fusion()
     _run(high, np.zeros(3), HIGH, FALSE)
     assert np.array_equal(_run(high, graze, HIGH, FALSE), _trigger(graze, False))  # the force trigger alone
-    noise = _fusion()
-    _run(noise, np.zeros(3), HIGH, FALSE)
+    noise = _off_at_the_ground()
     ons = 0
     for f in rng.normal(0, STD, 4000):  # an unloaded sole at the ground level, switched back off by hand
         if _run(noise, np.array([f]), GROUND, FALSE, vz=0.3)[0]:
             ons += 1
-            _run(noise, np.zeros(1), HIGH, FALSE)
+            _run(noise, np.zeros(1), GROUND, FALSE, vz=0.3)
     assert ons / 4000 < 0.05  # Page's CUSUM, h = 2, d = 0.7 s: one false alarm per ~50 ticks at the ground
 
 

@@ -75,7 +75,7 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
     recent, means = np.zeros((2, window)), np.zeros(2)
     rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED]
     par = np.array([on, off, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still, *rules])
-    fired = 0
+    fired = landed = 0
     for _ in range(4000):
         normal = rng.uniform(-3.0, 14.0, 2)
         heights = rng.uniform(-1.5e-3, 3.0e-3, 2)  # in and out of the ground band (0.8 mm), and lifted (2 mm)
@@ -98,7 +98,9 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
             fusion.ground if fusion.ground is not None else np.nan, nan_ok=True
         )
         fired += int(fused[0] != flags[0])
+        landed += int(ist[kernels.I_LAND] + ist[kernels.I_LAND + 1])
     assert fired > 100  # the fused flags do depart from the force trigger's: the height and plan rules ran
+    assert landed > 100  # and so did the landing rule
 
 
 def test_slip_lowpass_equals_the_detector():

@@ -21,7 +21,9 @@ The rules (a Schmitt trigger on the force whose switching depends on the other c
 
     rest_i = |dz_i| < near and |vz_i| < still                            the sole rests at the ground level
     off -> on  if fbar_i > on  or  (planned_i and rest_i)  or  (|dz_i| < near and S_i > cusum_h)
-    on -> off  if g_i < off  and not rest_i,   g_i = fbar_i if planned_i else min(fbar_i, f_i)
+                  or  (armed_i and |dz_i| < near and c_j)                a landing (c_j: the other sole)
+    on -> off  if g_i < off  and not rest_i  and not (landing_i and |dz_i| < near),
+               g_i = fbar_i if planned_i else min(fbar_i, f_i)
     off        whenever veto_i = not planned_i and (lifted_i or |v_i| > swing)
     lifted_i = z_i - z_s,i > lift and vz_i > still                      (it rose off its floor)
     S_i = max(0, S_i + (d / s^2) (f_i - d / 2)),  d = cusum_shift s       (reset when on or not near)
@@ -50,6 +52,22 @@ nor the scheduler take such a sole for a stance.
 A sole that is on stays on while it rests at the ground level (a graze found by the CUSUM, a sole
 unloaded before its lift-off); one that is off needs the plan's stance to switch on from rest alone.
 Without a plan (``planned=None``) the plan's rest and swing rules are off.
+
+**Landing.** ``armed_i``: sole ``i`` is off and its lowest point has risen more than ``lift`` above the
+ground level since it was last on (it left the floor). An armed sole whose lowest point comes back to
+within ``near`` of the ground level while the other sole is on has landed, whatever the plan's
+schedule and the force say, and a landing holds it on (``landing_i``, :attr:`ContactFusion.landing`)
+while it stays within ``near`` until its mean force confirms it (``fbar_i > on``; the usual rules from
+then on) or the veto releases it. A foot lands heel or edge first and grazes the floor with a few
+newtons for 5-20 ms before its load comes, often before the plan's touch-down (G1 walk, seed 0: 1-10 N
+over 10 ticks, the sole's centre still descending at 30-130 mm/s, so neither ``rest_i`` nor the force
+can tell it); the foot scheduler takes its touch-downs from a landing too (docs/estimation.md,
+"Touch-downs from a landing"). The ground level is the loaded sole's lowest point, pressed into the
+floor, so a landing is seen 2-4 ticks before the first force (g1-walk, seeds 0 and 2). A swing sole does not come within ``near`` of the ground level before it lands unless it scuffs the
+floor. The other sole must be on: after a flight the ground level is a height remembered across a
+phase where nothing observes the base height, and the estimate drifts there by far more than ``near``
+(g1-top-speed, seed 0: the landing sole's estimated lowest point crossed the remembered ground level
+76 mm above the floor, 23 ticks before it touched).
 
 The height cue only adds contact where the force is ambiguous: a sole far from the ground level
 (a stair, a ramp, a drifting height) falls back to the force trigger alone.
@@ -119,6 +137,9 @@ class ContactFusion:
         self._stand: list[float | None] = [None, None]
         #: per sole (2,): the kinematics rule out a load at this tick (module docstring, ``veto_i``)
         self.veto = [False, False]
+        self._armed = [False, False]  # module docstring, "Landing"
+        #: per sole (2,): on by a landing, its force not yet confirming it (module docstring, ``landing_i``)
+        self.landing = [False, False]
 
     def update(
         self,
@@ -171,18 +192,22 @@ class ContactFusion:
         stand = self._stand[i]
         lifted = stand is not None and height - stand > LIFT_HEIGHT and v > self.still
         veto = self.veto[i] = has_plan and not plan and (lifted or speed > SWING_SPEED)
+        landing = self.landing[i] and near
         if veto:
-            on = False
+            on = landing = False
             self._cusum[i] = 0.0
         elif self._state[i]:
-            on = (mean if plan else min(mean, f)) >= self.off_force or (rest and has_plan)
+            on = (mean if plan else min(mean, f)) >= self.off_force or (rest and has_plan) or landing
             self._cusum[i] = 0.0
         elif near:
+            landing = self._armed[i] and self._state[1 - i]
             s = max(0.0, self._cusum[i] + self.cusum_gain * (f - self.cusum_half))
-            on = mean > self.on_force or (rest and plan and has_plan) or s > CUSUM_THRESHOLD
+            on = mean > self.on_force or (rest and plan and has_plan) or s > CUSUM_THRESHOLD or landing
             self._cusum[i] = 0.0 if on else s
         else:
             on = mean > self.on_force
             self._cusum[i] = 0.0
         self._state[i] = on
+        self.landing[i] = landing and mean <= self.on_force
+        self._armed[i] = not on and (self._armed[i] or (ground is not None and height - ground > LIFT_HEIGHT))
         return on

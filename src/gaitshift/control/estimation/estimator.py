@@ -19,12 +19,13 @@ toe keeps a support point still, a slide moves every point. A sole whose centre 
 pivots: the same low-pass, ``|LP(v_c)|_xy > slip_speed``) is no contact for the filter at the next tick:
 the filter takes the sole centre as a still point, so its kinematics would drag the base estimate.
 
-Two contact flags. ``stance`` (the force trigger alone) is what the base filter, the slip test and,
-in the loop, the foot scheduler's touchdown events use: a sole the filter pins, or the controller
-loads, must carry a clear force (a lightly loaded sole can slide). ``contact`` is the estimate of
-"the sole touches the floor": force, the sole's lowest point ``z_low`` and vertical speed ``vz`` from
-this tick's estimate, and the plan's contact flags ``planned`` when the caller gives them, fused
-(:mod:`gaitshift.control.estimation.contact_fusion`).
+Two contact flags. ``stance`` (the force trigger alone) is what the base filter and the slip test
+use: a sole the filter pins must carry a clear force (a lightly loaded sole can slide). ``contact`` is
+the estimate of "the sole touches the floor": force, the sole's lowest point ``z_low`` and vertical
+speed ``vz`` from this tick's estimate, and the plan's contact flags ``planned`` when the caller gives
+them, fused (:mod:`gaitshift.control.estimation.contact_fusion`). In the loop the foot scheduler's
+touch-down events read ``stance`` or :attr:`StateEstimator.landing` (the soles the fusion holds on by a
+landing alone; :mod:`gaitshift.control.state`).
 
 The CoM comes from MuJoCo (``subtree_com``/``mj_jacSubtreeCom``) on the estimator's own ``MjData``,
 placed in the world with the estimated IMU pose; the simulator's data is never read.
@@ -156,6 +157,14 @@ class StateEstimator:
 
             parts = (self.kinematics, self.joints, self.filter, self.contact, self.fusion, self.slip)
             self._compiled = CompiledTick(*parts, (left, right), self.dt)
+
+    @property
+    def landing(self) -> np.ndarray:
+        """(2,) bool: the soles the last tick's fused contact holds on by a landing alone (a sole back at the
+        ground level after it left the floor, its force not yet confirming it; contact_fusion.py)."""
+        if self._compiled is not None:
+            return self._compiled.landing()
+        return np.array(self.fusion.landing, bool)
 
     @property
     def compiled(self) -> bool:

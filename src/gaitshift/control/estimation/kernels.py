@@ -33,7 +33,8 @@ import numpy as np
 # two entries each (left, right); I_VETO: the kinematics ruled a load out at the last tick (contact_fusion.py)
 I_STANCE, I_COUNT, I_FILLED, I_FUSED, I_MOVING, I_VETO = 0, 2, 4, 6, 8, 10
 I_STARTED = 12  # the joint filter has started
-IST_SIZE = 13
+I_ARMED, I_LAND = 13, 15  # (2,) each: the sole rose off the ground level; a landing holds it on (contact_fusion.py)
+IST_SIZE = 17
 # fst: float64 state
 F_CUSUM, F_VEL_LP, F_SPEED, F_GROUND = 0, 2, 6, 8  # cusum (2), vel_lp (2 x 2), speed (2), ground (NaN: none)
 F_OMEGA = 9  # (3,) this tick's bias-corrected IMU rate, rad/s
@@ -183,17 +184,9 @@ def imu_frame_points(
 
 @numba.njit(cache=True)
 def mean_step(
-    gyro: np.ndarray,
-    accel: np.ndarray,
-    dt: float,
-    bias: np.ndarray,
-    quat: np.ndarray,
-    rot9: np.ndarray,
-    vec: np.ndarray,
-    step: np.ndarray,
-    gravity_step: np.ndarray,
-    omega: np.ndarray,
-) -> None:
+    gyro: np.ndarray, accel: np.ndarray, dt: float, bias: np.ndarray, quat: np.ndarray, rot9: np.ndarray,
+    vec: np.ndarray, step: np.ndarray, gravity_step: np.ndarray, omega: np.ndarray,
+) -> None:  # fmt: skip
     """The InEKF mean over one tick (inekf.py, Hartley 2018 eq. 4): ``w = w~ - b_g`` into ``omega``,
     ``a_w = R (a~ - b_a)`` into ``vec[4]``, ``[v; p] <- step @ [v, p, d_L, d_R, a_w] + gravity_step``
     (``step`` (2, 5) = [[1, 0, 0, 0, dt], [dt, 1, 0, 0, dt^2/2]]), ``R <- R Exp(w dt)`` (the quaternion
@@ -314,20 +307,24 @@ def fuse_contact(
         rest = near and -still < vz < still
         lifted = heights[i] - fst[F_STAND + i] > lift and vz > still  # NaN: False
         veto = ist[I_VETO + i] = has_plan and not plan and (lifted or speed > swing)
+        landing = ist[I_LAND + i] != 0 and near
         if veto:
-            on = False
+            on = landing = False
             fst[F_CUSUM + i] = 0.0
         elif ist[I_FUSED + i] != 0:
-            on = (mean if plan else min(mean, f)) >= off_f or (rest and has_plan)
+            on = (mean if plan else min(mean, f)) >= off_f or (rest and has_plan) or landing
             fst[F_CUSUM + i] = 0.0
         elif near:
+            landing = ist[I_ARMED + i] != 0 and ist[I_FUSED + 1 - i] != 0
             s = max(0.0, fst[F_CUSUM + i] + gain * (f - half))
-            on = mean > on_f or (rest and plan and has_plan) or s > thresh
+            on = mean > on_f or (rest and plan and has_plan) or s > thresh or landing
             fst[F_CUSUM + i] = 0.0 if on else s
         else:
             on = mean > on_f
             fst[F_CUSUM + i] = 0.0
         ist[I_FUSED + i] = int(on)
+        ist[I_LAND + i] = int(landing and mean <= on_f)
+        ist[I_ARMED + i] = int(not on and (ist[I_ARMED + i] != 0 or heights[i] - ground > lift))  # NaN: False
     loaded_l = ist[I_FUSED] != 0 and normal[0] > on_f
     loaded_r = ist[I_FUSED + 1] != 0 and normal[1] > on_f
     if loaded_l and -still < vel[0, 2] < still:

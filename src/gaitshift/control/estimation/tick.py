@@ -82,6 +82,10 @@ class CompiledTick:
         self.fst[k.F_STAND : k.F_STAND + 2] = np.nan
         self.rates_lp[:] = 0.0
 
+    def landing(self) -> np.ndarray:
+        """(2,) bool: the soles on by a landing alone (``ist[I_LAND]``, contact_fusion.py)."""
+        return self.ist[k.I_LAND : k.I_LAND + 2] != 0
+
     def _settle(self, phase: int, imu: Any, normal: np.ndarray, planned: Any, out: np.ndarray) -> int:
         m, (par, ist, fst, means), (idx, xpos, xmat, com, p_s), (jac, qvel, aug, vel) = (
             self.mean, self.fixed, self.kin_arrays, self.kin_arrays2,
