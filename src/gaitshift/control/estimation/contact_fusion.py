@@ -63,9 +63,10 @@ newtons for 5-20 ms before its load comes, often before the plan's touch-down (G
 over 10 ticks, the sole's centre still descending at 30-130 mm/s, so neither ``rest_i`` nor the force
 can tell it); the foot scheduler takes its touch-downs from a landing too (docs/estimation.md,
 "Touch-downs from a landing"). The ground level is the loaded sole's lowest point, pressed into the
-floor, so a landing is seen 2-4 ticks before the first force (g1-walk, seeds 0 and 2). A swing sole does not come within ``near`` of the ground level before it lands unless it scuffs the
-floor. The other sole must be on: after a flight the ground level is a height remembered across a
-phase where nothing observes the base height, and the estimate drifts there by far more than ``near``
+floor, so a landing is seen 2-4 ticks before the first force (g1-walk, seeds 0 and 2). A swing sole
+does not come within ``near`` of the ground level before it lands unless it scuffs the floor. The
+other sole must be on: after a flight the ground level is a height remembered across a phase where
+nothing observes the base height, and the estimate drifts there by far more than ``near``
 (g1-top-speed, seed 0: the landing sole's estimated lowest point crossed the remembered ground level
 76 mm above the floor, 23 ticks before it touched).
 
