@@ -84,7 +84,8 @@ class CompiledTick:
 
     def landing(self) -> np.ndarray:
         """(2,) bool: the soles on by a landing alone (``ist[I_LAND]``, contact_fusion.py)."""
-        return self.ist[k.I_LAND : k.I_LAND + 2] != 0
+        out: np.ndarray = self.ist[k.I_LAND : k.I_LAND + 2] != 0
+        return out
 
     def _settle(self, phase: int, imu: Any, normal: np.ndarray, planned: Any, out: np.ndarray) -> int:
         m, (par, ist, fst, means), (idx, xpos, xmat, com, p_s), (jac, qvel, aug, vel) = (
