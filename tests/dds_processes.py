@@ -17,6 +17,21 @@ commands:
   - {t: 0.0, vx: 0.2}
 stop_at: 0.5
 """
+
+
+def live_scenario(name: str) -> str:
+    """A standing start steered by live commands (zero speed until one comes), for 30 s of plan time."""
+    return f"""planner: locomotion
+name: {name}
+robot: g1
+gait: walk
+timing: {{start: 0.3, stop: 0.3}}
+commands:
+  - {{t: 0.0, vx: 0.0}}
+stop_at: 30.0
+"""
+
+
 #: short safety phases for a test (a 0.2 s hold); the stale limit leaves room for a loaded machine in lockstep
 BRAIN_FLAGS = ["--lockstep", "--damping-time", "0.02", "--standup-time", "0.3", "--stale-limit", "0.3", "--hold", "0.2"]
 
@@ -40,3 +55,16 @@ def finish(proc, files, timeout=120.0):
             proc.wait()
         for f in files:
             f.close()
+
+
+class FakeController:
+    """A controller that records the live commands it is given (``command``, ``stop``) in ``calls``."""
+
+    def __init__(self):
+        self.calls = []
+
+    def command(self, vx, vy, yaw_rate):
+        self.calls.append(("command", vx, vy, yaw_rate))
+
+    def stop(self):
+        self.calls.append(("stop",))

@@ -15,21 +15,13 @@ import time
 
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 
-from dds_processes import BRAIN_FLAGS, finish, gaitshift
+from dds_processes import BRAIN_FLAGS, finish, gaitshift, live_scenario
 from gaitshift.dds.own_messages import CMD_VEL_TOPIC, ESTIMATE_TOPIC, Estimate_, VelocityCommand_
 from gaitshift.dds.transport import open_participant, topic_reader, topic_writer
 
 #: offset 36 on test_robot_process.py's pid-derived base (see test_cmdvel.py)
 DOMAIN = 100 + os.getpid() % 90 + 36
-LIVE = """planner: locomotion
-name: steered
-robot: g1
-gait: walk
-timing: {start: 0.3, stop: 0.3}
-commands:
-  - {t: 0.0, vx: 0.0}
-stop_at: 30.0
-"""
+LIVE = live_scenario("steered")
 
 
 def endpoints(participant, topic):

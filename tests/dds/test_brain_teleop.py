@@ -14,21 +14,13 @@ import sys
 import termios
 import time
 
-from dds_processes import BRAIN_FLAGS, finish, gaitshift
+from dds_processes import BRAIN_FLAGS, finish, gaitshift, live_scenario
 from gaitshift.dds.own_messages import ESTIMATE_TOPIC, Estimate_
 from gaitshift.dds.transport import open_participant, topic_reader
 
 #: offset 43 on test_robot_process.py's pid-derived base (see test_cmdvel.py): the last within DDS's 232
 DOMAIN = 100 + os.getpid() % 90 + 43
-LIVE = """planner: locomotion
-name: key-steered
-robot: g1
-gait: walk
-timing: {start: 0.3, stop: 0.3}
-commands:
-  - {t: 0.0, vx: 0.0}
-stop_at: 30.0
-"""
+LIVE = live_scenario("key-steered")
 
 
 def test_the_keys_on_a_pty_steer_the_brain_between_real_processes(tmp_path):

@@ -24,20 +24,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from dds_processes import BRAIN_FLAGS, finish, gaitshift
+from dds_processes import BRAIN_FLAGS, FakeController, finish, gaitshift, live_scenario
 
 CHROMIUM = "/usr/bin/chromium"
 #: offset 42 on test_robot_process.py's pid-derived base (see test_cmdvel.py): within DDS's 232
 DOMAIN = 100 + os.getpid() % 90 + 42
-LIVE = """planner: locomotion
-name: web-steered
-robot: g1
-gait: walk
-timing: {start: 0.3, stop: 0.3}
-commands:
-  - {t: 0.0, vx: 0.0}
-stop_at: 30.0
-"""
+LIVE = live_scenario("web-steered")
 
 
 def free_port() -> int:
@@ -89,17 +81,6 @@ def browser():
         b = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
         yield b
         b.close()
-
-
-class FakeController:
-    def __init__(self):
-        self.calls = []
-
-    def command(self, vx, vy, yaw_rate):
-        self.calls.append(("command", vx, vy, yaw_rate))
-
-    def stop(self):
-        self.calls.append(("stop",))
 
 
 def test_the_pages_slider_and_end_run_reach_the_brains_command_input(browser, tmp_path):

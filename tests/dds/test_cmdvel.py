@@ -18,6 +18,7 @@ from types import SimpleNamespace
 
 import pytest
 
+from dds_processes import FakeController
 from gaitshift.dds.cmdvel import (
     MAX_LINES,
     CommandInput,
@@ -67,17 +68,6 @@ def test_a_plan_without_live_commands_is_refused_for_the_cmd_topic():
     live = SimpleNamespace(gen=SimpleNamespace(p=SimpleNamespace(limits=limits)), command=print)
     # a background re-plan's proxy: the host's copy of the driver is ``local``
     assert live_limits(SimpleNamespace(driver=SimpleNamespace(local=live))) == CommandLimits(1.1, 0.4, 0.2, 0.7)
-
-
-class FakeController:
-    def __init__(self):
-        self.calls = []
-
-    def command(self, vx, vy, yaw_rate):
-        self.calls.append(("command", vx, vy, yaw_rate))
-
-    def stop(self):
-        self.calls.append(("stop",))
 
 
 def take_all(inp, n, timeout=10.0):
