@@ -107,9 +107,12 @@ def test_the_terrain_reaches_the_simulation_told_it_climbs_blind_it_trips(step_r
 def test_the_rows_carry_the_elevation_maps_numbers(step_rows):
     """The G1 has a head depth camera: every run maps the ground, so the map's error under the feet, its
     coverage and the soles' distance from the step's edge are columns; known and blind do not re-plan
-    (the perceived driver's refusals are null: there is none)."""
+    (the perceived driver's refusals are null: there is none). The map of the robot that stands is right
+    to a centimetre under its feet; the blind one's falls with it (its estimate tumbling), so it is only
+    present."""
+    assert step_rows["known"]["map_error_p95"] < 0.01
     for row in step_rows.values():
-        assert 0 < row["map_error_median"] <= row["map_error_p95"] < 0.1 and 0 < row["map_coverage"] <= 1
+        assert 0 < row["map_error_median"] <= row["map_error_p95"] < 1.0 and 0 < row["map_coverage"] <= 1
         assert row["map_frames"] > 50 and row["edge_distance_min"] < row["edge_distance_median"] < 1.0
         assert row["replans"] == 0 and row["replans_refused"] is None and row["perception_stopped"] is None
     assert step_rows["known"]["edge_distance_min"] > 0 > step_rows["blind"]["edge_distance_min"]  # across it

@@ -16,6 +16,7 @@ from gaitshift.control.estimation.contact import ContactDetector
 from gaitshift.control.estimation.contact_fusion import (
     CUSUM_SHIFT,
     CUSUM_THRESHOLD,
+    LAND_SPEED,
     LIFT_HEIGHT,
     NEAR_HEIGHT,
     SWING_SPEED,
@@ -89,7 +90,8 @@ def test_a_sole_that_left_the_floor_is_on_when_it_comes_back_to_the_ground_level
     touch-down), stays on there while its force stays below the noise, and is off again once it rises
     out of the band (a bounce) or moves faster than a loaded sole can; a sole landing on a tread
     above the ground level, one that never left the floor, or one landing from a flight (the other
-    sole off too) is left to the force."""
+    sole off too), or one passing the ground level faster than LAND_SPEED on its way down a stair is left
+    to the force."""
     band = 0.5 * NEAR_HEIGHT
     det = _fusion()
     _run(det, np.zeros(3), HIGH, FALSE)  # lifted: off, armed
@@ -105,6 +107,10 @@ def test_a_sole_that_left_the_floor_is_on_when_it_comes_back_to_the_ground_level
     _run(tread, np.zeros(3), 0.1 + HIGH, FALSE)
     assert not _run(tread, np.zeros(3), 0.1, FALSE).any()  # on a tread 10 cm up, unloaded: the force decides
     assert not _run(_off_at_the_ground(), np.zeros(3), band, FALSE).any()  # never left the floor
+    passing = _fusion()
+    _run(passing, np.zeros(3), HIGH, FALSE)
+    fast = -1.5 * LAND_SPEED  # through the ground level on its way down a stair: no landing
+    assert not _run(passing, np.zeros(2), band, FALSE, vz=fast).any()
     flight = _fusion()
     for z in (HIGH, band, band):  # both soles off the floor (a running flight): the ground level is a memory
         flags = flight.update(np.zeros(2), np.array([z, HIGH]), np.zeros(2), FALSE)

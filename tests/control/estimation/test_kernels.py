@@ -23,7 +23,13 @@ import pytest
 
 from gaitshift.bench.g1sway import record_g1_sway
 from gaitshift.control.estimation import ContactDetector, StateEstimator, kernels
-from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, ContactFusion
+from gaitshift.control.estimation.contact_fusion import (
+    CUSUM_THRESHOLD,
+    LAND_SPEED,
+    LIFT_HEIGHT,
+    SWING_SPEED,
+    ContactFusion,
+)
 from gaitshift.control.estimation.slip import SlipDetector
 from gaitshift.robots import load_robot
 
@@ -73,14 +79,14 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
     fst[kernels.F_GROUND] = np.nan
     fst[kernels.F_STAND : kernels.F_STAND + 2] = np.nan
     recent, means = np.zeros((2, window)), np.zeros(2)
-    rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED]
+    rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, LAND_SPEED]
     par = np.array([on, off, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still, *rules])
     fired = landed = 0
     for _ in range(4000):
         normal = rng.uniform(-3.0, 14.0, 2)
         heights = rng.uniform(-1.5e-3, 3.0e-3, 2)  # in and out of the ground band (0.8 mm), and lifted (2 mm)
         vel = np.zeros((2, 3))
-        vel[:, 2] = vz = rng.uniform(-0.08, 0.08, 2)
+        vel[:, 2] = vz = rng.uniform(-0.4, 0.08, 2)  # down to faster than a landing (0.3 m/s)
         vel[:, 0] = rng.uniform(0.0, 1.3, 2)  # below and above the swing speed (1 m/s)
         speed = np.array([math.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2) for v in vel])
         planned = rng.random(2) < 0.7 if with_plan else None

@@ -21,7 +21,7 @@ The rules (a Schmitt trigger on the force whose switching depends on the other c
 
     rest_i = |dz_i| < near and |vz_i| < still                            the sole rests at the ground level
     off -> on  if fbar_i > on  or  (planned_i and rest_i)  or  (|dz_i| < near and S_i > cusum_h)
-                  or  (armed_i and |dz_i| < near and c_j)                a landing (c_j: the other sole)
+                  or  (armed_i and |dz_i| < near and c_j and vz_i > -land)   a landing (c_j: the other sole)
     on -> off  if g_i < off  and not rest_i  and not (landing_i and |dz_i| < near),
                g_i = fbar_i if planned_i else min(fbar_i, f_i)
     off        whenever veto_i = not planned_i and (lifted_i or |v_i| > swing)
@@ -64,7 +64,9 @@ over 10 ticks, the sole's centre still descending at 30-130 mm/s, so neither ``r
 can tell it); the foot scheduler takes its touch-downs from a landing too (docs/estimation.md,
 "Touch-downs from a landing"). The ground level is the loaded sole's lowest point, pressed into the
 floor, so a landing is seen 2-4 ticks before the first force (g1-walk, seeds 0 and 2). A swing sole
-does not come within ``near`` of the ground level before it lands unless it scuffs the floor. The
+does not come within ``near`` of the ground level before it lands unless it scuffs the floor, or
+passes that level on its way down to a lower tread: it then descends faster than ``land``
+(:data:`LAND_SPEED`; a landing sole is slower). The
 other sole must be on: after a flight the ground level is a height remembered across a phase where
 nothing observes the base height, and the estimate drifts there by far more than ``near``
 (g1-top-speed, seed 0: the landing sole's estimated lowest point crossed the remembered ground level
@@ -94,6 +96,10 @@ LIFT_HEIGHT = 2e-3
 #: world speed of a sole's centre above which a sole in the plan's swing carries no load, m/s (module
 #: docstring: 0.62 m/s is the fastest loaded sole measured in the plan's swing)
 SWING_SPEED = 1.0
+#: vertical speed of a sole's centre, m/s, above which a sole descending through the ground level passes
+#: it and does not land on it (module docstring, "Landing": landing soles measured at 0.03-0.19 m/s; soles
+#: passing an upper tread's level on g1-stairs-down, seed 0, at 0.55-0.81 m/s)
+LAND_SPEED = 0.3
 #: CUSUM target shift in std of one force sample, and its decision threshold (log-likelihood ratio)
 CUSUM_SHIFT, CUSUM_THRESHOLD = 0.7, 2.0
 
@@ -201,7 +207,7 @@ class ContactFusion:
             on = (mean if plan else min(mean, f)) >= self.off_force or (rest and has_plan) or landing
             self._cusum[i] = 0.0
         elif near:
-            landing = self._armed[i] and self._state[1 - i]
+            landing = self._armed[i] and self._state[1 - i] and v > -LAND_SPEED
             s = max(0.0, self._cusum[i] + self.cusum_gain * (f - self.cusum_half))
             on = mean > self.on_force or (rest and plan and has_plan) or s > CUSUM_THRESHOLD or landing
             self._cusum[i] = 0.0 if on else s

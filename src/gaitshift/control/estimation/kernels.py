@@ -293,10 +293,10 @@ def fuse_contact(
     lowest-point height ``heights`` (m) against the ground level ``fst[F_GROUND]`` (NaN: none yet),
     world velocity ``vel`` (2, 3) of its centre (m/s: ``vz``, the speed), the plan's flags ``planned``
     (bits 0, 1; -1: no plan); ``par`` = [on, off, cusum gain, cusum half shift, near, still, cusum
-    threshold, lift, swing speed]. Updates the flags ``ist[I_FUSED]`` and ``ist[I_VETO]``, the CUSUMs,
+    threshold, lift, swing speed, land speed]. Updates the flags ``ist[I_FUSED]`` and ``ist[I_VETO]``, the CUSUMs,
     the ground level (the sole(s) on with ``f > on``) and the soles' stands (those of them still)."""
     on_f, off_f, gain, half, near_h, still, thresh = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
-    lift, swing = par[7], par[8]
+    lift, swing, land = par[7], par[8], par[9]
     has_plan = planned >= 0
     ground = fst[F_GROUND]
     for i in range(2):
@@ -315,7 +315,7 @@ def fuse_contact(
             on = (mean if plan else min(mean, f)) >= off_f or (rest and has_plan) or landing
             fst[F_CUSUM + i] = 0.0
         elif near:
-            landing = ist[I_ARMED + i] != 0 and ist[I_FUSED + 1 - i] != 0
+            landing = ist[I_ARMED + i] != 0 and ist[I_FUSED + 1 - i] != 0 and vz > -land
             s = max(0.0, fst[F_CUSUM + i] + gain * (f - half))
             on = mean > on_f or (rest and plan and has_plan) or s > thresh or landing
             fst[F_CUSUM + i] = 0.0 if on else s

@@ -29,7 +29,13 @@ import numpy as np
 
 from gaitshift.control.estimation import kernels as k
 from gaitshift.control.estimation.contact import ContactDetector
-from gaitshift.control.estimation.contact_fusion import CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, ContactFusion
+from gaitshift.control.estimation.contact_fusion import (
+    CUSUM_THRESHOLD,
+    LAND_SPEED,
+    LIFT_HEIGHT,
+    SWING_SPEED,
+    ContactFusion,
+)
 from gaitshift.control.estimation.inekf import InvariantEKF
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics
@@ -59,7 +65,7 @@ class CompiledTick:
         self.trigger = np.array([contact.on_force, contact.off_force, float(contact.debounce)])
         m = filt.mean_arrays(dt)
         fuse = [fusion.on_force, fusion.off_force, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still]
-        rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED]
+        rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, LAND_SPEED]
         self.par = np.array([dt, float(m.every), slip.alpha, slip.slip_speed, *fuse, *rules])
         n = max(len(p) for p in points)
         self.pts = np.array([np.concatenate([p, np.repeat(p[:1], n - len(p), axis=0)]) for p in points])
