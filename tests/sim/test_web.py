@@ -164,9 +164,9 @@ def test_the_view_draws_the_controllers_map_at_its_heights_its_edges_apart_and_i
     from types import SimpleNamespace
 
     from gaitshift.api import plan
-    from gaitshift.control.perception import ElevationMap, MapSettings
+    from gaitshift.control.perception import EDGE_COLOR, ElevationMap, MapSettings
     from gaitshift.sim.plant import build_plant
-    from gaitshift.sim.web import EDGE_COLOR, WebView
+    from gaitshift.sim.web import WebView
 
     emap = ElevationMap(MapSettings(size=1.0, resolution=0.05))
     emap.recenter(np.zeros(2))

@@ -52,11 +52,8 @@ from gaitshift.export.recording import (
     support_polygon,
 )
 
-#: the scan's points: radius, m, and colour (RGB)
+#: the scan's points' radius, m
 SCAN_RADIUS = 0.008
-SCAN_COLOR = (235, 60, 200)
-#: the map's edge cells' colour (RGB)
-EDGE_COLOR = (255, 0, 0)
 
 
 def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> dict[str, Any]:
@@ -102,6 +99,8 @@ def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> di
         if "map_heights" in a:
             _elevation_map(rec, a)
         if "scan_t" in a:
+            from gaitshift.control.perception import SCAN_COLOR
+
             counts = np.bincount(a["scan_frame"], minlength=len(a["scan_t"]))
             rec.clouds("world/scan", a["scan_t"], a["scan_points"], counts, SCAN_RADIUS, SCAN_COLOR)
         rec.close()
@@ -112,7 +111,7 @@ def _elevation_map(rec: Recording, a: dict[str, np.ndarray]) -> None:
     """The controller's map at the run's end, and its height under the soles over the run."""
     from matplotlib import colormaps
 
-    from gaitshift.control.perception import seen_cells
+    from gaitshift.control.perception import EDGE_COLOR, seen_cells
 
     t = a["t"]
     for s, side in enumerate(("left", "right")):

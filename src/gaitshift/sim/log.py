@@ -4,12 +4,12 @@ ticks: the depth scans the controller fused (:class:`ScanLog`) and each new set 
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import mujoco
 import numpy as np
 
+from gaitshift.control.perception import thin_scan
 from gaitshift.control.wbc_data import TickInfo, TickReference
 from gaitshift.sim.contacts import FootContacts
 
@@ -170,17 +170,14 @@ class PerceptionLog:
         return {"map_height": np.array(self.height[:n]), "map_known": np.array(self.known[:n]), **self._final()}
 
 
-#: the most points of one scan the run's log keeps (more are thinned evenly: every ceil(M / SCAN_POINTS)-th)
-SCAN_POINTS = 1024
-
-
 class ScanLog:
     """The depth camera's scans as the controller placed them (:attr:`Perceiver.scan
     <gaitshift.control.perception.perceiver.Perceiver.scan>`: the frame's points put into the world
     with the camera pose of the ESTIMATED state; the brain's view, never the world's truth), one per
     frame fused: ``scan_t`` (F,) plan time s of the tick that fused each frame, ``scan_points`` (P, 3)
-    float32 m (world frame, z up; at most :data:`SCAN_POINTS` a frame) and ``scan_frame`` (P,) int32,
-    the frame each point belongs to. Empty when the robot has no depth camera."""
+    float32 m (world frame, z up; at most :data:`~gaitshift.control.perception.SCAN_POINTS` a frame,
+    ``thin_scan``) and ``scan_frame`` (P,) int32, the frame each point belongs to. Empty when the robot
+    has no depth camera."""
 
     def __init__(self) -> None:
         self.t: list[float] = []
@@ -192,9 +189,8 @@ class ScanLog:
         if perceiver.frames == self._frames:
             return
         self._frames = perceiver.frames
-        pts = np.asarray(perceiver.scan, dtype=np.float32)
         self.t.append(tp)
-        self.points.append(pts[:: max(1, math.ceil(len(pts) / SCAN_POINTS))])
+        self.points.append(thin_scan(perceiver.scan))
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Every scan logged, or nothing (no camera, or no frame fused)."""

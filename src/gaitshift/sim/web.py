@@ -22,7 +22,8 @@ before the run starts); the scene is built at the first tick from ``d.model``
   <gaitshift.control.perception.perceiver.Perceiver.scan>`: the frame's points placed with the
   ESTIMATED camera pose, the brain's view, not the world's truth), magenta, redrawn at each frame that
   has a new scan (the camera's 30 Hz against the view's 30 Hz: about every frame), at most
-  :data:`SCAN_POINTS` points (thinned evenly);
+  :data:`~gaitshift.control.perception.SCAN_POINTS` points (thinned evenly; the G1's camera gives at
+  most 32 x 24 = 768);
 - a status panel: plan time, gait, measured CoM speed in the heading frame (m/s), the command the
   plan carries at that sample (vx, vy m/s, yaw rate rad/s), the real-time factor (simulated s per
   wall-clock s since the first tick) and the page updates per second.
@@ -61,10 +62,6 @@ SLIDER_STEP = 0.05
 MAP_EVERY = 15
 #: sole outline drawn at each foothold (length, width), m
 SOLE = (0.20, 0.09)
-#: the most points of a scan drawn (the G1's camera gives at most 32 x 24 = 768)
-SCAN_POINTS = 1024
-#: colours (RGB) of the scan's points and of the map's edge cells
-SCAN_COLOR, EDGE_COLOR = (235, 60, 200), (255, 0, 0)
 
 
 @dataclass(frozen=True)
@@ -188,7 +185,7 @@ class WebView:
         """The map's seen cells at their heights (coloured by height) and its edge cells (red, larger)."""
         from matplotlib import colormaps
 
-        from gaitshift.control.perception import seen_cells
+        from gaitshift.control.perception import EDGE_COLOR, seen_cells
 
         assert self.scene is not None
         m, sc = self.elevation, self.server.scene
@@ -211,7 +208,9 @@ class WebView:
         if p.frames == self._scan_frames or not len(p.scan):
             return
         self._scan_frames = p.frames
-        pts = np.asarray(p.scan[:: max(1, math.ceil(len(p.scan) / SCAN_POINTS))], dtype=np.float32)
+        from gaitshift.control.perception import SCAN_COLOR, thin_scan
+
+        pts = thin_scan(p.scan)
         if "scan" in self.nodes:
             self.nodes["scan"].points = pts
         else:

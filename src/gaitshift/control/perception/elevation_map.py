@@ -34,6 +34,8 @@ __all__ = ["EDGE_STEP", "ElevationMap", "MapSettings", "seen_cells", "step_edges
 
 #: the step between neighbour cells that the map's pictures (figure, browser view, Rerun) mark as an edge, m
 EDGE_STEP = 0.04
+#: the colour (RGB) the map's pictures draw its edge cells in (browser view, Rerun)
+EDGE_COLOR = (255, 0, 0)
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,7 @@ since the last frame and re-centres on the estimated base.
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Any
 
@@ -34,10 +35,14 @@ import numpy as np
 from gaitshift.control.perception.elevation_map import ElevationMap, MapSettings
 from gaitshift.robots.sensors import DEPTH_CAMERA_SITE, DepthCamera
 
-__all__ = ["Perceiver"]
+__all__ = ["SCAN_COLOR", "SCAN_POINTS", "Perceiver", "thin_scan"]
 
 #: the smallest height variance of a point, m^2 (eq. (2))
 MIN_VARIANCE = 1e-8
+#: the most points of a scan a picture or the run's log keeps (:func:`thin_scan`)
+SCAN_POINTS = 1024
+#: the colour (RGB) the pictures draw the scan in (browser view, Rerun)
+SCAN_COLOR = (235, 60, 200)
 
 
 class Perceiver:
@@ -82,3 +87,9 @@ class Perceiver:
         self.last_t, self.scan = t, world
         self.frames += 1
         self.cost_us = (time.perf_counter() - t0) * 1e6
+
+
+def thin_scan(points: np.ndarray) -> np.ndarray:
+    """A scan's points (M, 3) m as float32, at most :data:`SCAN_POINTS` of them: every
+    ``ceil(M / SCAN_POINTS)``-th (what a picture or the run's log keeps of :attr:`Perceiver.scan`)."""
+    return np.asarray(points[:: max(1, math.ceil(len(points) / SCAN_POINTS))], dtype=np.float32)
