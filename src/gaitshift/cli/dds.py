@@ -275,12 +275,9 @@ def dds_cmd_cmd(
 
 def _teleop(domain: int, iface: str) -> None:
     """``gaitshift dds cmd --teleop``: key presses to rt/gaitshift/cmd_vel until q (the stop command)."""
-    import sys
+    from gaitshift.cli.keys import require_terminal
 
-    from gaitshift.errors import InputError
-
-    if not sys.stdin.isatty():
-        raise InputError("--teleop", "stdin", "a terminal to read the keys from")
+    require_terminal("--teleop")
     _key_loop(domain, iface)
 
 
@@ -289,7 +286,7 @@ def _key_loop(domain: int, iface: str) -> None:
 
     from gaitshift.cli.dds_live import KEYS_HELP
     from gaitshift.cli.keys import KeyReader, key_loop
-    from gaitshift.dds.cmdvel import KeySteer
+    from gaitshift.dds.cmdvel import KeySteer, command_text
     from gaitshift.dds.own_messages import CMD_VEL_TOPIC, VelocityCommand_
     from gaitshift.dds.transport import open_participant, topic_writer
 
@@ -298,7 +295,7 @@ def _key_loop(domain: int, iface: str) -> None:
     def put(msg: VelocityCommand_) -> None:
         writer.write(msg)
         reader = "" if writer.get_matched_subscriptions() else " (no brain reading yet)"
-        typer.echo(f"vx {msg.vx:+.2f} m/s, vy {msg.vy:+.2f} m/s, yaw_rate {msg.yaw_rate:+.2f} rad/s{reader}")
+        typer.echo(command_text(msg) + reader)
 
     typer.echo(KEYS_HELP + " and quit", err=True)
     with KeyReader() as keys:

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import typer
 
 from gaitshift.cli.app import number
+from gaitshift.cli.keys import require_terminal
 from gaitshift.errors import InputError
 
 if TYPE_CHECKING:
@@ -43,8 +44,8 @@ def check_live_flags(scenario: str, cmd_topic: bool, web_port: int, teleop: bool
     ``--teleop`` without a terminal on stdin or on a scenario that takes no live command; ``--cmd-topic``
     on such a scenario. (``--web`` on one is a view without controls.)"""
     number(web_port, "--web-port", 0, 65535)
-    if teleop and not sys.stdin.isatty():
-        raise InputError("--teleop", "stdin", "a terminal to read the keys from")
+    if teleop:
+        require_terminal("--teleop")
     for flag, on in (("--cmd-topic", cmd_topic), ("--teleop", teleop)):
         if on:
             live_scenario(scenario, flag)
@@ -116,12 +117,11 @@ def _page(ctrl: Controller, port: int, limits: CommandLimits | None, queue: Comm
 def _keyboard(queue: CommandQueue, say: Callable[[str], None]) -> Iterator[None]:
     """The keys of stdin (a terminal, in cbreak mode for the block) to ``queue``, one line each on ``say``."""
     from gaitshift.cli.keys import KeyReader, key_loop
-    from gaitshift.dds.cmdvel import KeySteer
+    from gaitshift.dds.cmdvel import KeySteer, command_text
 
     def put(msg: Any) -> None:
         queue.put(msg)
-        what = "stop" if msg.stop else f"vx {msg.vx:+.2f} m/s, vy {msg.vy:+.2f} m/s, yaw_rate {msg.yaw_rate:+.2f} rad/s"
-        say(f"keys: {what}")
+        say(f"keys: {'stop' if msg.stop else command_text(msg)}")
 
     done = threading.Event()
     typer.echo(KEYS_HELP, err=True)

@@ -14,7 +14,7 @@ import threading
 from collections.abc import Callable
 from typing import Any, TextIO
 
-__all__ = ["KEY_ACTIONS", "KeyReader", "key_loop"]
+__all__ = ["KEY_ACTIONS", "KeyReader", "key_loop", "require_terminal"]
 
 KEY_ACTIONS = {
     "\x1b[A": "up",
@@ -31,6 +31,14 @@ KEY_ACTIONS = {
     "q": "quit",
     "\x03": "quit",
 }
+
+
+def require_terminal(flag: str) -> None:
+    """:class:`~gaitshift.errors.InputError` naming ``flag`` when stdin is not a terminal to read keys from."""
+    from gaitshift.errors import InputError
+
+    if not sys.stdin.isatty():
+        raise InputError(flag, "stdin", "a terminal to read the keys from")
 
 
 class KeyReader:

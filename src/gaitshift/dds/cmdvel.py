@@ -38,6 +38,7 @@ __all__ = [
     "KeySteer",
     "TopicSource",
     "check_command",
+    "command_text",
     "live_limits",
     "publish",
 ]
@@ -89,6 +90,11 @@ def check_command(msg: Any, limits: CommandLimits) -> str:
         if not (math.isfinite(v) and lo <= v <= hi):
             return f"VelocityCommand_.{name} = {v!r} is invalid: allowed a number in [{lo:.3g}, {hi:.3g}] {unit}"
     return ""
+
+
+def command_text(msg: Any) -> str:
+    """A velocity command in one line: ``vx +0.30 m/s, vy +0.00 m/s, yaw_rate +0.00 rad/s``."""
+    return f"vx {msg.vx:+.2f} m/s, vy {msg.vy:+.2f} m/s, yaw_rate {msg.yaw_rate:+.2f} rad/s"
 
 
 class CommandSource(Protocol):
