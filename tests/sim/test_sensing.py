@@ -1,6 +1,7 @@
 """The truth barrier and the sensed closed loop: the controller side never reads the plant's data (a
 run whose plant truth is scrambled between sensing and stepping is bit-identical), the G1 walks on the
-estimator with typical noise and runs walk-run-walk on it, ten times the noise is clearly worse, the
+estimator with typical noise and runs walk-run-walk on it, heavy noise is taken neither for slip nor
+for contact, ten times the noise is clearly worse, the
 sole touch sensors read the contact normal force, the floor friction option sets the contact
 friction, and the latency pipe delays the torques by exactly L ticks and predicts a
 constant-acceleration state exactly."""
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 import gaitshift
-from gaitshift.control.state import LatencyPredictor
+from gaitshift.control.state import DEFAULT_ASSUMED_FRICTION, LatencyPredictor
 from gaitshift.errors import InputError
 from gaitshift.robots.model import standing_qpos
 from gaitshift.sim.contacts import ContactSensor
@@ -123,6 +124,21 @@ def test_the_g1_runs_walk_run_walk_on_the_estimator_by_default():
     est = met["estimation"]
     assert est["base_vel_rmse"] <= 0.05
     assert est["tilt_rmse"] <= 0.01
+
+
+def test_heavy_sensor_noise_is_not_taken_for_slip_or_for_contact(walk):
+    """``rl-peer`` noise (joint velocities +-1.5 rad/s, angles +-0.01 rad) on a floor of friction 1: no
+    sole slips, so no slip is flagged and the friction the controller assumes stays where it started
+    (slip.py eq. (4) sets the slip threshold above the noise), and the sole forces from the torques keep
+    the contact right 90 % of the time (the window and thresholds of torque_contact.py eq. (3)). With the
+    thresholds of ``typical`` noise: 51 slip ticks, the friction assumed down to 0.1 and 88.7 % contact
+    accuracy (g1-walk, seed 0)."""
+    run = simulate(walk, SimOptions(noise="rl-peer"))
+    est = run.metrics["estimation"]
+    assert not run.fell, run.metrics.get("fall_reason")
+    assert est["slip_ticks"] == 0
+    assert est["friction_assumed_final"] == pytest.approx(DEFAULT_ASSUMED_FRICTION)
+    assert est["contact_accuracy"] >= 0.90
 
 
 def test_ten_times_the_noise_gives_clearly_larger_estimation_errors(walk, default_run):

@@ -62,8 +62,9 @@ import numpy as np
 from gaitshift.control.estimation import GyroCalibration, StateEstimator
 from gaitshift.control.estimation.contact import noise_thresholds
 from gaitshift.control.estimation.inekf import InvariantEKF
+from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.noise import NoiseProfile
-from gaitshift.control.estimation.torque_contact import AccelerationWindow, TorqueContact
+from gaitshift.control.estimation.torque_contact import AccelerationWindow, TorqueContact, second_difference_variance
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
 from gaitshift.control.frames import SensorFrame
@@ -97,6 +98,14 @@ TORQUE_FORCE_STD = 0.02
 #: n = 10: 1.0 % of the weight; the difference of two estimated velocities: 18-20 %). Closed loop on
 #: g1-walk-run-walk (seed 0): n = 5 holds (contact accuracy 95.5 %), n = 3 fell at 7.63 s
 TORQUE_WINDOW = 5
+#: the torque window widens with the encoders' noise (:func:`torque_window`) until the noise's part of the
+#: sole force (eq. (3) of gaitshift.control.estimation.torque_contact) is at most this many times
+#: TORQUE_FORCE_STD, up to TORQUE_WINDOW_MAX ticks. G1 on g1-walk-run-walk with ``rl-peer`` noise (seed 0;
+#: noise part 0.192 / 0.087 / 0.058 / 0.035 of the weight for n = 5 / 8 / 10 / 13): contact accuracy 86.0 /
+#: 90.9 / 92.1 / 91.4 %, all standing with thresholds from the noise; n = 5 with the typical thresholds fell
+#: at 5.53 s. ``typical`` noise keeps n = 5 (noise part 0.009) and the thresholds of TORQUE_FORCE_STD
+TORQUE_NOISE_SHARE = 3.0
+TORQUE_WINDOW_MAX = 20
 #: most ticks a missing stretch of states is bridged over (module docstring), 20 ms at 2 ms
 MAX_BRIDGE = 10
 
@@ -225,15 +234,17 @@ class ControllerState:
         self.record: EstimateRecord | None = None
         self.ticks = 0
         self._last_t = 0.0  # s, the time of the last frame
+        tuning = FilterTuning.from_profile(profile, robot.dt, init_tilt_std=START_TILT_STD)
+        force_std = profile.force
         if contact == "torque":
             self.torque_contact = TorqueContact(robot)
-            self._window = AccelerationWindow(TORQUE_WINDOW, robot.dt)
-        force_std = TORQUE_FORCE_STD if self.torque_contact is not None else profile.force
+            n, force_std = torque_window(self.torque_contact, self.qpos0, tuning)
+            self._window = AccelerationWindow(n, robot.dt)
         on, off = noise_thresholds(force_std, CONTACT_WINDOW)
         self.estimator = StateEstimator.from_robot(
             robot.robot,
             robot.dt,
-            tuning=FilterTuning.from_profile(profile, robot.dt, init_tilt_std=START_TILT_STD),
+            tuning=tuning,
             filter=estimator,
             imu_site=robot.imu_site,
             contact_on=on,
@@ -358,6 +369,27 @@ class ControllerState:
         if world_cov is None:
             return 0.0
         return float(np.sqrt(max(world_cov()[6, 6], 0.0)))
+
+
+def torque_window(contact: TorqueContact, qpos0: np.ndarray, tuning: FilterTuning) -> tuple[int, float]:
+    """The torque window's half width n (ticks) and the std of its sole force (fraction of the weight,
+    per sample) for the sensors of ``tuning``: the smallest n from :data:`TORQUE_WINDOW` to
+    :data:`TORQUE_WINDOW_MAX` whose encoder-noise part (eq. (3) of
+    :mod:`~gaitshift.control.estimation.torque_contact`, at the pose ``qpos0``) is at most
+    :data:`TORQUE_NOISE_SHARE` times :data:`TORQUE_FORCE_STD`; the std is the larger of the two."""
+    robot = contact.robot
+    d = mujoco.MjData(robot.model)
+    d.qpos[:] = qpos0
+    mujoco.mj_forward(robot.model, d)
+    dt, weight = robot.dt, robot.mass * -float(robot.model.opt.gravity[2])
+    jf = JointVelocityFilter(1, dt, tuning.encoder_std, tuning.joint_vel_std, tuning.joint_accel_density)
+    reading_cov = np.diag([tuning.encoder_std**2, tuning.joint_vel_std**2])
+    for n in range(TORQUE_WINDOW, TORQUE_WINDOW_MAX + 1):
+        qdd_var = second_difference_variance(jf.a, jf.gain, reading_cov, n) / (n * dt) ** 4
+        noise = float(contact.noise_std(d, qdd_var).max()) / weight
+        if noise <= TORQUE_NOISE_SHARE * TORQUE_FORCE_STD:
+            break
+    return n, max(TORQUE_FORCE_STD, noise)
 
 
 def _with_mu(gains: Any, mu: float) -> Any:

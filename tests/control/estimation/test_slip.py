@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from gaitshift.common.hull import convex_hull_xy
-from gaitshift.control.estimation.slip import SlipDetector, distance_to_polygon
+from gaitshift.control.estimation.joints import JointVelocityFilter
+from gaitshift.control.estimation.slip import SlipDetector, distance_to_polygon, lowpass_rate_variance, noise_floor
 
 DT, SPEED, TAU = 0.002, 0.2, 0.03
 #: a G1-like sole: contact points (sole frame, relative to the centre), m
@@ -76,3 +77,34 @@ def test_distance_to_polygon_identities() -> None:
     assert distance_to_polygon(square[::-1, :2] + [3.0, 4.0]) == pytest.approx(np.hypot(2.0, 3.0))
     assert distance_to_polygon(np.array([[3.0, 4.0]])) == pytest.approx(5.0)
     assert distance_to_polygon(np.array([[3.0, 4.0]] * 4)) == pytest.approx(5.0)  # a degenerate image
+
+
+def test_eq4_is_the_spread_of_a_still_soles_low_passed_velocity() -> None:
+    """Monte Carlo of the noise path of eq. (4): white encoder and driver readings of a still joint
+    through the joint filter, the sole velocity ``J qd + w x r`` with a white gyro, the detector's low-pass.
+    The low-passed velocity's std per axis and the Rayleigh sigma match eq. (4) within 5 %."""
+    rng = np.random.default_rng(0)
+    nj, ticks = 6, 40_000
+    pos_std, vel_std, gyro_std = 0.0058, 0.87, 0.115
+    jf = JointVelocityFilter(nj, DT, pos_std, vel_std, 100.0)
+    jac = rng.uniform(-0.4, 0.4, (2, 3, nj))
+    lever = np.array([[0.0, 0.1, -0.7], [0.02, -0.1, -0.7]])
+    det = SlipDetector(DT, 1e9, TAU)  # never slips: only its low-pass is read
+    jf.reset(np.zeros(nj))
+    lp = np.zeros((ticks, 2, 2))
+    for k in range(ticks):
+        _, qd = jf.update(rng.normal(0.0, pos_std, nj), rng.normal(0.0, vel_std, nj))
+        w = rng.normal(0.0, gyro_std, 3)
+        vel = jac @ qd + np.cross(w, lever)
+        det.update((True, True), vel, np.zeros(1), _twist)
+        lp[k] = det.vel_lp
+    lp = lp[2000:]
+    rate_var = lowpass_rate_variance(jf.a, jf.gain, np.diag([pos_std**2, vel_std**2]), det.alpha)
+    g = det.alpha / (2 - det.alpha) * gyro_std**2
+    for i in (0, 1):
+        rx, ry, rz = lever[i]
+        sx = np.sqrt(rate_var * jac[i, 0] @ jac[i, 0] + g * (ry**2 + rz**2))
+        sy = np.sqrt(rate_var * jac[i, 1] @ jac[i, 1] + g * (rx**2 + rz**2))
+        assert lp[:, i].std(axis=0) == pytest.approx([sx, sy], rel=0.05)
+    sigma = np.sqrt((lp**2).mean(axis=(0, 2)))  # per sole, the Rayleigh parameter sqrt((sx^2 + sy^2) / 2)
+    assert noise_floor(jac, lever, rate_var, gyro_std**2, det.alpha) == pytest.approx(sigma.max(), rel=0.05)

@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 
 from gaitshift.control.controller import Controller
-from gaitshift.control.estimation.torque_contact import TorqueContact, leg_dofs
+from gaitshift.control.estimation.joints import JointVelocityFilter
+from gaitshift.control.estimation.torque_contact import TorqueContact, leg_dofs, second_difference_variance
 from gaitshift.control.frames import SensorFrame
 
 
@@ -159,3 +160,18 @@ def test_a_torque_step_inside_the_window_reads_no_sole_force(ctrl):
         worst["uniform"] = max(worst["uniform"], *np.abs(contact.normal_forces(centre, uniform, acc)))
     assert worst["triangular"] < 1.0  # newtons: M, b and J vary a little over the window
     assert worst["uniform"] > 10 * worst["triangular"]
+
+
+@pytest.mark.parametrize("n", [5, 10])
+def test_eq3_is_the_variance_of_the_windows_second_difference(n):
+    """Monte Carlo: white encoder and driver readings of still joints through the joint filter; the
+    second difference ``q_{c+n} - 2 q_c + q_{c-n}`` of the filtered angles has eq. (3)'s variance (5 %)."""
+    rng = np.random.default_rng(1)
+    dt, pos_std, vel_std, joints, ticks = 0.002, 0.0058, 0.87, 50, 4000
+    jf = JointVelocityFilter(joints, dt, pos_std, vel_std, 100.0)
+    jf.reset(np.zeros(joints))
+    q = np.array([jf.update(rng.normal(0, pos_std, joints), rng.normal(0, vel_std, joints))[0] for _ in range(ticks)])
+    q = q[500:]
+    d2 = q[2 * n :] - 2 * q[n:-n] + q[: -2 * n]
+    want = second_difference_variance(jf.a, jf.gain, np.diag([pos_std**2, vel_std**2]), n)
+    assert d2.var() == pytest.approx(want, rel=0.05)

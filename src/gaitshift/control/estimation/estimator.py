@@ -57,7 +57,7 @@ from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_model
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
-from gaitshift.control.estimation.slip import SlipDetector
+from gaitshift.control.estimation.slip import NOISE_SIGMAS, SlipDetector, lowpass_rate_variance, noise_floor
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import (
     FLAG_PAIRS,
@@ -144,7 +144,10 @@ class StateEstimator:
         self.filter_name = filter
         self.filter = make_filter(filter, t, gravity)
         self._axes_are_base = self.kinematics.imu_axes_are_base
-        self.slip = SlipDetector(dt, slip_speed, slip_tau, sole_points)
+        alpha = float(1.0 - np.exp(-dt / slip_tau))
+        #: the slip threshold's noise floor, m/s (slip.py eq. (4) times NOISE_SIGMAS)
+        self.slip_floor = NOISE_SIGMAS * self._speed_noise(alpha)
+        self.slip = SlipDetector(dt, max(slip_speed, self.slip_floor), slip_tau, sole_points)
         self._tick_rot, self._tick_feet_rot = np.eye(3), np.zeros((2, 3, 3))  # this tick's R and sole rotations
         self._points_aug = self.kinematics.points_aug  # (8, 5): [y, 0, 1; dy/dt + w x y, 1, 0]
         self._rel = self._points_aug[4:8, 0:3]
@@ -157,6 +160,14 @@ class StateEstimator:
 
             parts = (self.kinematics, self.joints, self.filter, self.contact, self.fusion, self.slip)
             self._compiled = CompiledTick(*parts, (left, right), self.dt)
+
+    def _speed_noise(self, alpha: float) -> float:
+        """``sigma`` (m/s) of slip.py eq. (4) for this tuning, at the model's reference pose."""
+        kin, t = self.kinematics, self.tuning
+        jac, lever = kin.sole_jacobians(kin.model.qpos0[7:])
+        reading_cov = np.diag([t.encoder_std**2, t.joint_vel_std**2])
+        rate_var = lowpass_rate_variance(self.joints.a, self.joints.gain, reading_cov, alpha)
+        return noise_floor(jac, lever, rate_var, t.gyro_density**2 / self.dt, alpha)
 
     @property
     def landing(self) -> np.ndarray:

@@ -213,6 +213,15 @@ class LegKinematics:
         feet = FootKinematics(pos=y[0:2], vel=ydot[0:2], var=self._var, rot=rot, rot_var=self._rot_var)
         return BodyKinematics(feet, y, ydot, base_rot, base_omega)
 
+    def sole_jacobians(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """At joint angles ``q`` (nj,) rad: the soles' translational Jacobians on the joints (2, 3, nj) and
+        the soles' positions from the IMU (2, 3) m, base frame. Leaves the tick count (the variance
+        refresh's schedule) as it was; the next :meth:`compute` overwrites the rest."""
+        ticks = self._ticks
+        self.compute(q, np.zeros(self.n_joints))
+        self._ticks = ticks
+        return self.jac[0:6, 6:].reshape(2, 3, -1).copy(), self.points_aug[0:2, 0:3].copy()
+
     def run_mujoco(self) -> BodyKinematics:
         """The MuJoCo part of :meth:`compute` on the joint angles and velocities already in ``data.qpos[7:]``
         and ``qvel[6:]`` (the compiled tick writes them): poses, CoM, the Jacobians ``jac`` (12, nv) (the

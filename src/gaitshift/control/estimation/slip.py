@@ -28,6 +28,26 @@ the point the base filter takes as still, is not a still point either (:attr:`Sl
 
 What the test cannot see: a sole spinning flat about a point of its support slides everywhere but
 there (torsional slip); it is counted as still.
+
+The threshold keeps above the test's own noise. A still sole's low-passed velocity is not zero: the
+sensors' noise reaches it through the joint-velocity filter (per joint, ``x_{k+1} = A x_k + K z_k``,
+``x = [q, qd]``, readings ``z`` of covariance ``R_z``: :class:`~gaitshift.control.estimation.joints.
+JointVelocityFilter`), the low-pass ``y_{k+1} = (1 - a) y_k + a qd_{k+1}`` and the leg's Jacobian
+``J`` (sole centre, base frame), and through the gyro's white noise ``sigma_g`` times the lever ``r``
+from the IMU to the sole. The stacked system ``s = [q, qd, y]`` has the stationary covariance of the
+discrete Lyapunov equation ``S = F S F^T + G R_z G^T``, so per horizontal axis ``u``::
+
+    sigma_u^2 = S_yy sum_j J_uj^2 + a / (2 - a) sigma_g^2 |e_u x r|^2                     (4)
+
+and the centre speed of a still sole is Rayleigh-distributed with ``sigma = sqrt((sigma_x^2 +
+sigma_y^2) / 2)`` (the larger sole's), ``P(s > k sigma) = exp(-k^2 / 2)``. The test slips at
+``max(slip_speed, NOISE_SIGMAS sigma)`` (:func:`noise_floor`). Measured on the G1 walking on the
+estimate (g1-walk, seed 0, stance ticks): ``typical`` noise, eq. (4) sigma 0.008 m/s, the measured
+median speed 0.008 m/s (a Rayleigh median is 1.18 sigma) and its largest 0.053 m/s: the 0.2 m/s
+threshold stands; ``rl-peer`` noise (joint velocities +-1.5 rad/s), sigma 0.069 m/s, the measured median
+0.078 m/s and largest 0.247 m/s, above 0.2 m/s: every false onset lowered the friction the controller
+assumes by a fifth, to 0.1 within 1.9 s of g1-walk-run-walk (docs/estimation.md, "Slip under heavy
+noise").
 """
 
 from __future__ import annotations
@@ -36,8 +56,41 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from scipy.linalg import solve_discrete_lyapunov
 
 from gaitshift.common.hull import convex_hull_xy
+
+#: multiples of the still sole's speed noise sigma (eq. (4)) the slip threshold keeps above: a Rayleigh
+#: tail of exp(-12.5) = 3.7e-6 per sample, about 330 independent samples (tau apart) per sole in a 10-s walk
+NOISE_SIGMAS = 5.0
+
+
+def lowpass_rate_variance(transition: np.ndarray, gain: np.ndarray, reading_cov: np.ndarray, alpha: float) -> float:
+    """``S_yy`` of eq. (4): the stationary variance, (rad/s)^2, of one joint's low-passed filtered
+    velocity, from the joint filter's transition ``A`` (2, 2) and gain ``K`` (2, 2), the readings'
+    covariance ``R_z`` (2, 2) and the low-pass factor ``alpha``."""
+    f = np.zeros((3, 3))
+    f[:2, :2] = transition
+    f[2, :2] = alpha * transition[1]
+    f[2, 2] = 1.0 - alpha
+    g = np.zeros((3, 2))
+    g[:2] = gain
+    g[2] = alpha * gain[1]
+    return float(solve_discrete_lyapunov(f, g @ reading_cov @ g.T)[2, 2])
+
+
+def noise_floor(jac: np.ndarray, lever: np.ndarray, rate_var: float, gyro_var: float, alpha: float) -> float:
+    """``sigma`` (m/s) of eq. (4), the larger sole's: ``jac`` (2, 3, nj) the soles' translational
+    Jacobians on the joints, ``lever`` (2, 3) m the soles from the IMU (base frame), ``rate_var`` the
+    low-passed joint-velocity variance ``S_yy`` (rad/s)^2, ``gyro_var`` the gyro's per-sample variance
+    (rad/s)^2, ``alpha`` the low-pass factor."""
+    g = alpha / (2.0 - alpha) * gyro_var
+    out = 0.0
+    for j, (rx, ry, rz) in zip(jac, lever, strict=True):
+        var_x = rate_var * float(j[0] @ j[0]) + g * (ry * ry + rz * rz)
+        var_y = rate_var * float(j[1] @ j[1]) + g * (rx * rx + rz * rz)
+        out = max(out, ((var_x + var_y) / 2.0) ** 0.5)
+    return out
 
 
 def distance_to_polygon(u: Any) -> float:
@@ -71,7 +124,8 @@ class SlipDetector:
 
     Args:
         dt: tick period, s.
-        slip_speed: speed of the slowest support point above which a stance sole slips, m/s.
+        slip_speed: speed of the slowest support point above which a stance sole slips, m/s (the
+            caller keeps it above the noise: :func:`noise_floor`).
         slip_tau: time constant of the low-pass on the twist, s.
         supports: (left, right) contact points (n, 3) in the sole frame relative to the sole centre,
             m; None: the centre only.
