@@ -6,13 +6,18 @@ case), ``typical`` noise; for walking (the plan walks only) and for running up t
 runs, commanded speed <= 1.5 m/s). Prints the survival with its Wilson 95 % interval per group, and the
 same outside the box (``rl-peer`` noise, friction < 0.4, faster runs).
 
-Run: python benchmarks/survival_box.py runs/g1-survival
+With a second folder (the same spec after a change), the two runs side by side on the cases both
+hold (paired: the same draws), with the cases each change rescued and the new falls, and the falls'
+causes in each.
+
+Run: python benchmarks/survival_box.py runs/g1-survival [runs/g1-survival-after]
 """
 
 from __future__ import annotations
 
 import math
 import sys
+from collections import Counter
 from typing import Any
 
 from gaitshift.campaign.store import Store
@@ -52,8 +57,14 @@ def groups(rows: list[dict[str, Any]]) -> dict[str, list[dict[str, Any]]]:
     }
 
 
-def main(folder: str) -> None:
-    rows = Store(folder).table().to_pylist()
+def _cell(rs: list[dict[str, Any]]) -> str:
+    k = sum(not r["fell"] for r in rs)
+    lo, hi = wilson(k, len(rs))
+    return f"{k} = {100 * k / max(1, len(rs)):.1f} % ({100 * lo:.1f}-{100 * hi:.1f})"
+
+
+def single(rows: list[dict[str, Any]]) -> None:
+    """One run's groups."""
     print(f"{len(rows)} rows")
     print("| group | cases | survived | survival | Wilson 95 % |")
     print("|---|---|---|---|---|")
@@ -63,5 +74,33 @@ def main(folder: str) -> None:
         print(f"| {name} | {len(rs)} | {k} | {100 * k / max(1, len(rs)):.1f} % | {100 * lo:.1f}-{100 * hi:.1f} % |")
 
 
+def paired(before: list[dict[str, Any]], after: list[dict[str, Any]]) -> None:
+    """Two runs of one spec on the cases both hold: groups side by side, rescued, new falls, causes."""
+    b = {r["case_hash"]: r for r in before}
+    a = {r["case_hash"]: r for r in after}
+    common = sorted(set(a) & set(b))
+    rows_b, rows_a = [b[h] for h in common], [a[h] for h in common]
+    print(f"{len(common)} cases in both runs")
+    print("| group | cases | before | after | rescued | new falls |")
+    print("|---|---|---|---|---|---|")
+    ga = groups(rows_a)
+    for name, rs in groups(rows_b).items():
+        hs = {r["case_hash"] for r in rs} & {r["case_hash"] for r in ga[name]}
+        rescued = sum(bool(b[h]["fell"]) and not a[h]["fell"] for h in hs)
+        new = sum(not b[h]["fell"] and bool(a[h]["fell"]) for h in hs)
+        print(f"| {name} | {len(rs)} | {_cell(rs)} | {_cell(ga[name])} | {rescued} | {new} |")
+    for label, rs in (("before", rows_b), ("after", rows_a)):
+        causes = Counter(r["fall_cause"] for r in rs if r["fell"])
+        print(f"causes {label}: " + ", ".join(f"{c} {n}" for c, n in causes.most_common()))
+
+
+def main(folder: str, after: str | None = None) -> None:
+    rows = Store(folder).table().to_pylist()
+    if after is None:
+        single(rows)
+    else:
+        paired(rows, Store(after).table().to_pylist())
+
+
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "runs/g1-survival")
+    main(*(sys.argv[1:3] if len(sys.argv) > 1 else ["runs/g1-survival"]))

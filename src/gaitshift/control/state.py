@@ -30,6 +30,10 @@ accelerations ``qdd_j`` its QP planned for them (semi-implicit Euler, as MuJoCo 
 
     v_{j+1} = v_j + dt qdd_j,   q_{j+1} = q_j (+) dt v_{j+1}     for the L pending commands      (1)
 
+The contact from the torques takes the estimated state before (1): the prediction carries the QP's own
+accelerations, with which eq. (2) of :mod:`~gaitshift.control.estimation.torque_contact` gives back the
+forces the QP assumed (4 ticks of latency: every g1-walk touch-down taken 13-95 ticks early).
+
 Missing states: a frame ``g > 1`` periods after the last one (a state the link lost or corrupted, over
 DDS) first steps the estimator through the ``g - 1`` ticks it did not see, on the new frame's readings held
 (zero-order hold; each joint angle moved back along its reported velocity, ``q - j dt dq`` for the tick
@@ -98,12 +102,8 @@ TORQUE_FORCE_STD = 0.02
 #: n = 10: 1.0 % of the weight; the difference of two estimated velocities: 18-20 %). Closed loop on
 #: g1-walk-run-walk (seed 0): n = 5 holds (contact accuracy 95.5 %), n = 3 fell at 7.63 s
 TORQUE_WINDOW = 5
-#: the torque window widens with the encoders' noise (:func:`torque_window`) until the noise's part of the
-#: sole force (eq. (3) of gaitshift.control.estimation.torque_contact) is at most this many times
-#: TORQUE_FORCE_STD, up to TORQUE_WINDOW_MAX ticks. G1 on g1-walk-run-walk with ``rl-peer`` noise (seed 0;
-#: noise part 0.192 / 0.087 / 0.058 / 0.035 of the weight for n = 5 / 8 / 10 / 13): contact accuracy 86.0 /
-#: 90.9 / 92.1 / 91.4 %, all standing with thresholds from the noise; n = 5 with the typical thresholds fell
-#: at 5.53 s. ``typical`` noise keeps n = 5 (noise part 0.009) and the thresholds of TORQUE_FORCE_STD
+#: the torque window widens with the encoders' noise (:func:`torque_window`) until its part of the sole force
+#: is at most this many times TORQUE_FORCE_STD (G1, rl-peer noise: n = 10; docs/estimation.md, "Heavy sensor noise")
 TORQUE_NOISE_SHARE = 3.0
 TORQUE_WINDOW_MAX = 20
 #: most ticks a missing stretch of states is bridged over (module docstring), 20 ms at 2 ms
@@ -234,6 +234,9 @@ class ControllerState:
         self.record: EstimateRecord | None = None
         self.ticks = 0
         self._last_t = 0.0  # s, the time of the last frame
+        # the last tick's estimated state (nq,), (nv,), before the latency prediction: the torque window's
+        # accelerations must be measured ones, and the prediction integrates the QP's planned accelerations
+        self._measured = (self.qpos0, np.zeros(m.nv))
         tuning = FilterTuning.from_profile(profile, robot.dt, init_tilt_std=START_TILT_STD)
         force_std = profile.force
         if contact == "torque":
@@ -289,6 +292,7 @@ class ControllerState:
             cost = 1e6 * (time.perf_counter() - t0)
             q_est, v_est, touch_est, slip_est, com, com_vel = s.qpos(), s.qvel(), s.stance, s.slip, s.com, s.com_vel
             fused, landing = s.contact, self.estimator.landing
+        self._measured = (q_est, v_est)
         if self.oracle:
             q, v, touching, slip = self._oracle(frame)
         else:
@@ -302,15 +306,15 @@ class ControllerState:
 
     def _bridge(self, frame: SensorFrame, imu: ImuReading, planned: np.ndarray) -> None:
         """Step the estimator through the ticks before ``frame`` that no frame came for (module docstring,
-        "Missing states"); the controller's data holds the last of their states."""
+        "Missing states"); the torque window takes each of their states."""
         assert self.estimator is not None
-        dt, c = self.robot.dt, self.cdata
+        dt = self.robot.dt
         gap = min(round((frame.t - self._last_t) / dt), MAX_BRIDGE + 1)
         self._last_t = frame.t
         for j in range(gap - 1, 0, -1):
             joints = JointReading(q=frame.q - j * dt * frame.dq, qd=frame.dq)
             s = self.estimator.step(imu, joints, FootForces(normal=self._sole_forces(frame)), planned)
-            c.qpos[:], c.qvel[:] = s.qpos(), s.qvel()
+            self._measured = (s.qpos(), s.qvel())
 
     def _sole_forces(self, frame: SensorFrame) -> np.ndarray:
         """The sole normal forces (2,) N the contact detector reads: the frame's foot force, or eq. (2)
@@ -327,7 +331,7 @@ class ControllerState:
         ``2 n + 1`` ticks (:class:`~gaitshift.control.estimation.torque_contact.AccelerationWindow`)."""
         window, contact = self._window, self.torque_contact
         assert window is not None and contact is not None
-        window.push(self.cdata.qpos, self.cdata.qvel, tau_est)
+        window.push(*self._measured, tau_est)
         if not window.full:
             return self._force0.copy()
         d = window.centre_data(self.robot.model)
