@@ -55,6 +55,7 @@ worsened the tracking.
 from __future__ import annotations
 
 import copy
+import math
 import time
 from collections import deque
 from dataclasses import dataclass, replace
@@ -234,8 +235,7 @@ class ControllerState:
         self.record: EstimateRecord | None = None
         self.ticks = 0
         self._last_t = 0.0  # s, the time of the last frame
-        # the last tick's estimated state (nq,), (nv,), before the latency prediction: the torque window's
-        # accelerations must be measured ones, and the prediction integrates the QP's planned accelerations
+        # the last tick's estimated state (nq,), (nv,) before the latency prediction (module docstring)
         self._measured = (self.qpos0, np.zeros(m.nv))
         tuning = FilterTuning.from_profile(profile, robot.dt, init_tilt_std=START_TILT_STD)
         force_std = profile.force
@@ -381,16 +381,16 @@ def torque_window(contact: TorqueContact, qpos0: np.ndarray, tuning: FilterTunin
     :data:`TORQUE_WINDOW_MAX` whose encoder-noise part (eq. (3) of
     :mod:`~gaitshift.control.estimation.torque_contact`, at the pose ``qpos0``) is at most
     :data:`TORQUE_NOISE_SHARE` times :data:`TORQUE_FORCE_STD`; the std is the larger of the two."""
-    robot = contact.robot
-    d = mujoco.MjData(robot.model)
+    robot, d = contact.robot, mujoco.MjData(contact.robot.model)
     d.qpos[:] = qpos0
     mujoco.mj_forward(robot.model, d)
     dt, weight = robot.dt, robot.mass * -float(robot.model.opt.gravity[2])
     jf = JointVelocityFilter(1, dt, tuning.encoder_std, tuning.joint_vel_std, tuning.joint_accel_density)
     reading_cov = np.diag([tuning.encoder_std**2, tuning.joint_vel_std**2])
+    gain2 = float((contact.acceleration_gains(d) ** 2).sum(axis=1).max())  # N^2 per (rad/s^2)^2
     for n in range(TORQUE_WINDOW, TORQUE_WINDOW_MAX + 1):
         qdd_var = second_difference_variance(jf.a, jf.gain, reading_cov, n) / (n * dt) ** 4
-        noise = float(contact.noise_std(d, qdd_var).max()) / weight
+        noise = math.sqrt(gain2 * qdd_var) / weight
         if noise <= TORQUE_NOISE_SHARE * TORQUE_FORCE_STD:
             break
     return n, max(TORQUE_FORCE_STD, noise)

@@ -41,13 +41,13 @@ discrete Lyapunov equation ``S = F S F^T + G R_z G^T``, so per horizontal axis `
 
 and the centre speed of a still sole is Rayleigh-distributed with ``sigma = sqrt((sigma_x^2 +
 sigma_y^2) / 2)`` (the larger sole's), ``P(s > k sigma) = exp(-k^2 / 2)``. The test slips at
-``max(slip_speed, NOISE_SIGMAS sigma)`` (:func:`noise_floor`). Measured on the G1 walking on the
-estimate (g1-walk, seed 0, stance ticks): ``typical`` noise, eq. (4) sigma 0.008 m/s, the measured
-median speed 0.008 m/s (a Rayleigh median is 1.18 sigma) and its largest 0.053 m/s: the 0.2 m/s
-threshold stands; ``rl-peer`` noise (joint velocities +-1.5 rad/s), sigma 0.069 m/s, the measured median
-0.078 m/s and largest 0.247 m/s, above 0.2 m/s: every false onset lowered the friction the controller
-assumes by a fifth, to 0.1 within 1.9 s of g1-walk-run-walk (docs/estimation.md, "Slip under heavy
-noise").
+``max(slip_speed, NOISE_SIGMAS sigma)`` (:func:`noise_floor`). On the G1 (eq. (4) at the standing and
+at the straight-leg pose; measured on stance ticks of g1-walk, seed 0): ``typical`` noise, sigma
+0.008-0.009 m/s, the measured median speed 0.008 m/s (a Rayleigh median is 1.18 sigma), its largest 0.053
+m/s: the 0.2 m/s threshold stands; ``rl-peer`` noise (joint velocities +-1.5 rad/s), sigma 0.067-0.077
+m/s, the measured median 0.078 m/s, its largest 0.247 m/s, above 0.2 m/s: every false onset lowered the
+friction the controller assumes by a fifth, to 0.1 within 1.9 s of g1-walk-run-walk (docs/estimation.md,
+"Heavy sensor noise").
 """
 
 from __future__ import annotations

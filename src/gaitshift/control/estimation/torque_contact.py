@@ -43,10 +43,11 @@ second difference has
     \\operatorname{Var} \\ddot q = \\frac{6 R(0) - 8 R(n) + 2 R(2 n)}{(n\\, dt)^4}                     (3)
 
 (:func:`second_difference_variance`), and (2) is linear in ``\\ddot q``: the normal force's noise is
-``sigma_f^2 = sum_j (d f / d qdd_j)^2 Var qdd_j`` (:meth:`TorqueContact.noise_std`, at the standing pose).
+``sigma_f^2 = sum_j (d f / d qdd_j)^2 Var qdd_j`` (:meth:`TorqueContact.acceleration_gains`, at the standing
+pose).
 On the G1 (n = 5) that is 0.009 of the weight for ``typical`` noise (14-bit encoders) and 0.198 for
 ``rl-peer`` noise (+-0.01 rad per reading); the error measured on g1-walk against the true force, 0.027 and
-0.202 (docs/estimation.md, "Contact without foot force under heavy noise").
+0.202 (docs/estimation.md, "Heavy sensor noise").
 """
 
 from __future__ import annotations
@@ -125,18 +126,19 @@ class TorqueContact:
             out[s] = float(wrench[:3] @ rot[:, 2])
         return out
 
-    def noise_std(self, data: Any, qdd_var: float) -> np.ndarray:
-        """Std (2,) N of each sole's normal force for a white noise of variance ``qdd_var`` (rad/s^2)^2 on
-        every joint's measured acceleration (eq. (3)), at the state of ``data`` (after ``mj_forward``)."""
+    def acceleration_gains(self, data: Any) -> np.ndarray:
+        """``d f / d qdd_j`` (2, nv - 6), N per rad/s^2: how each sole's normal force (eq. (2)) moves with each
+        joint's measured acceleration, at the state of ``data`` (after ``mj_forward``); eq. (3) takes the
+        force's noise from them, ``sigma_f^2 = sum_j (d f / d qdd_j)^2 Var qdd_j``."""
         m = self.model
         zero_tau = np.zeros(m.nu)
         base = self.normal_forces(data, zero_tau, None)
-        unit, var = np.zeros(m.nv), np.zeros(2)
+        unit, out = np.zeros(m.nv), np.zeros((2, m.nv - 6))
         for j in range(6, m.nv):
             unit[j] = 1.0
-            var += (self.normal_forces(data, zero_tau, unit) - base) ** 2
+            out[:, j - 6] = self.normal_forces(data, zero_tau, unit) - base
             unit[j] = 0.0
-        return np.sqrt(var * qdd_var)
+        return out
 
 
 class AccelerationWindow:
