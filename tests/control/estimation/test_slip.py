@@ -9,7 +9,12 @@ import pytest
 
 from gaitshift.common.hull import convex_hull_xy
 from gaitshift.control.estimation.joints import JointVelocityFilter
-from gaitshift.control.estimation.slip import SlipDetector, distance_to_polygon, lowpass_rate_variance, noise_floor
+from gaitshift.control.estimation.slip import (
+    SlipDetector,
+    distance_to_polygon,
+    lowpass_rate_variance,
+    still_speed_sigma,
+)
 
 DT, SPEED, TAU = 0.002, 0.2, 0.03
 #: a G1-like sole: contact points (sole frame, relative to the centre), m
@@ -107,4 +112,4 @@ def test_eq4_is_the_spread_of_a_still_soles_low_passed_velocity() -> None:
         sy = np.sqrt(rate_var * jac[i, 1] @ jac[i, 1] + g * (rx**2 + rz**2))
         assert lp[:, i].std(axis=0) == pytest.approx([sx, sy], rel=0.05)
     sigma = np.sqrt((lp**2).mean(axis=(0, 2)))  # per sole, the Rayleigh parameter sqrt((sx^2 + sy^2) / 2)
-    assert noise_floor(jac, lever, rate_var, gyro_std**2, det.alpha) == pytest.approx(sigma.max(), rel=0.05)
+    assert still_speed_sigma(jac, lever, rate_var, gyro_std**2, det.alpha) == pytest.approx(sigma.max(), rel=0.05)

@@ -57,7 +57,13 @@ from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.kinematics import LegKinematics, kinematic_model
 from gaitshift.control.estimation.lie import SKEW, mat_of_quat
 from gaitshift.control.estimation.noise import NoiseProfile
-from gaitshift.control.estimation.slip import NOISE_SIGMAS, SlipDetector, lowpass_rate_variance, noise_floor
+from gaitshift.control.estimation.slip import (
+    NOISE_SIGMAS,
+    SlipDetector,
+    lowpass_factor,
+    lowpass_rate_variance,
+    still_speed_sigma,
+)
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import (
     FLAG_PAIRS,
@@ -144,7 +150,7 @@ class StateEstimator:
         self.filter_name = filter
         self.filter = make_filter(filter, t, gravity)
         self._axes_are_base = self.kinematics.imu_axes_are_base
-        alpha = float(1.0 - np.exp(-dt / slip_tau))
+        alpha = lowpass_factor(dt, slip_tau)
         #: the slip threshold's noise floor, m/s (slip.py eq. (4) times NOISE_SIGMAS)
         self.slip_floor = NOISE_SIGMAS * self._speed_noise(alpha)
         self.slip = SlipDetector(dt, max(slip_speed, self.slip_floor), slip_tau, sole_points)
@@ -167,7 +173,7 @@ class StateEstimator:
         jac, lever = kin.sole_jacobians(kin.model.qpos0[7:])
         reading_cov = np.diag([t.encoder_std**2, t.joint_vel_std**2])
         rate_var = lowpass_rate_variance(self.joints.a, self.joints.gain, reading_cov, alpha)
-        return noise_floor(jac, lever, rate_var, t.gyro_density**2 / self.dt, alpha)
+        return still_speed_sigma(jac, lever, rate_var, t.gyro_density**2 / self.dt, alpha)
 
     @property
     def landing(self) -> np.ndarray:

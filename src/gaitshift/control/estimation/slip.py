@@ -41,7 +41,7 @@ discrete Lyapunov equation ``S = F S F^T + G R_z G^T``, so per horizontal axis `
 
 and the centre speed of a still sole is Rayleigh-distributed with ``sigma = sqrt((sigma_x^2 +
 sigma_y^2) / 2)`` (the larger sole's), ``P(s > k sigma) = exp(-k^2 / 2)``. The test slips at
-``max(slip_speed, NOISE_SIGMAS sigma)`` (:func:`noise_floor`). On the G1 (eq. (4) at the standing and
+``max(slip_speed, NOISE_SIGMAS sigma)`` (:func:`still_speed_sigma`). On the G1 (eq. (4) at the standing and
 at the straight-leg pose; measured on stance ticks of g1-walk, seed 0): ``typical`` noise, sigma
 0.008-0.009 m/s, the measured median speed 0.008 m/s (a Rayleigh median is 1.18 sigma), its largest 0.053
 m/s: the 0.2 m/s threshold stands; ``rl-peer`` noise (joint velocities +-1.5 rad/s), sigma 0.067-0.077
@@ -65,6 +65,12 @@ from gaitshift.common.hull import convex_hull_xy
 NOISE_SIGMAS = 5.0
 
 
+def lowpass_factor(dt: float, tau: float) -> float:
+    """The factor ``a`` of the first-order low-pass ``y <- y + a (x - y)`` of time constant ``tau`` s
+    sampled every ``dt`` s: ``1 - exp(-dt / tau)``."""
+    return float(1.0 - np.exp(-dt / tau))
+
+
 def lowpass_rate_variance(transition: np.ndarray, gain: np.ndarray, reading_cov: np.ndarray, alpha: float) -> float:
     """``S_yy`` of eq. (4): the stationary variance, (rad/s)^2, of one joint's low-passed filtered
     velocity, from the joint filter's transition ``A`` (2, 2) and gain ``K`` (2, 2), the readings'
@@ -79,7 +85,7 @@ def lowpass_rate_variance(transition: np.ndarray, gain: np.ndarray, reading_cov:
     return float(solve_discrete_lyapunov(f, g @ reading_cov @ g.T)[2, 2])
 
 
-def noise_floor(jac: np.ndarray, lever: np.ndarray, rate_var: float, gyro_var: float, alpha: float) -> float:
+def still_speed_sigma(jac: np.ndarray, lever: np.ndarray, rate_var: float, gyro_var: float, alpha: float) -> float:
     """``sigma`` (m/s) of eq. (4), the larger sole's: ``jac`` (2, 3, nj) the soles' translational
     Jacobians on the joints, ``lever`` (2, 3) m the soles from the IMU (base frame), ``rate_var`` the
     low-passed joint-velocity variance ``S_yy`` (rad/s)^2, ``gyro_var`` the gyro's per-sample variance
@@ -125,7 +131,7 @@ class SlipDetector:
     Args:
         dt: tick period, s.
         slip_speed: speed of the slowest support point above which a stance sole slips, m/s (the
-            caller keeps it above the noise: :func:`noise_floor`).
+            caller keeps it above the noise: :func:`still_speed_sigma`).
         slip_tau: time constant of the low-pass on the twist, s.
         supports: (left, right) contact points (n, 3) in the sole frame relative to the sole centre,
             m; None: the centre only.
@@ -139,7 +145,7 @@ class SlipDetector:
         supports: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> None:
         self.slip_speed = float(slip_speed)
-        self.alpha = float(1.0 - np.exp(-dt / slip_tau))
+        self.alpha = lowpass_factor(dt, slip_tau)
         zero = np.zeros((1, 3))
         self.supports = tuple(convex_hull_xy(s) for s in supports) if supports is not None else (zero, zero)
         self.reset()
