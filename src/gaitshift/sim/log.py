@@ -170,6 +170,11 @@ class PerceptionLog:
         return {"map_height": np.array(self.height[:n]), "map_known": np.array(self.known[:n]), **self._final()}
 
 
+def group_index(groups: list[np.ndarray]) -> np.ndarray:
+    """(sum of the lengths,) int32: the index of the group each row of ``np.concatenate(groups)`` comes from."""
+    return np.repeat(np.arange(len(groups), dtype=np.int32), [len(g) for g in groups])
+
+
 class ScanLog:
     """The depth camera's scans as the controller placed them (:attr:`Perceiver.scan
     <gaitshift.control.perception.perceiver.Perceiver.scan>`: the frame's points put into the world
@@ -199,7 +204,7 @@ class ScanLog:
         return {
             "scan_t": np.asarray(self.t),
             "scan_points": np.concatenate(self.points),
-            "scan_frame": np.repeat(np.arange(len(self.t), dtype=np.int32), [len(p) for p in self.points]),
+            "scan_frame": group_index(self.points),
         }
 
 
@@ -234,5 +239,5 @@ class FootholdLog:
             "footholds_t": np.asarray(self.t),
             "footholds": np.concatenate([s for s, _ in self.sets]),
             "footholds_side": np.concatenate([side for _, side in self.sets]),
-            "footholds_set": np.repeat(np.arange(len(self.sets), dtype=np.int32), [len(s) for s, _ in self.sets]),
+            "footholds_set": group_index([steps for steps, _ in self.sets]),
         }
