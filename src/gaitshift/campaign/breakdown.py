@@ -101,14 +101,10 @@ def breakdown_markdown(rows: list[dict[str, Any]], pairs: int = 12) -> list[str]
     return md + perception_markdown(rows)
 
 
-def _median(rows: list[dict[str, Any]], key: str, scale: float = 1.0, digits: int = 1) -> str:
+def _stat(rows: list[dict[str, Any]], key: str, scale: float = 1.0, digits: int = 1, reduce: Any = None) -> str:
+    """``scale`` times the median (or ``reduce``) of the column ``key`` over the rows that have it; "-": none."""
     vals = [r[key] for r in rows if r[key] is not None]
-    return "-" if not vals else f"{scale * statistics.median(vals):.{digits}f}"
-
-
-def _least(rows: list[dict[str, Any]], key: str, scale: float = 1.0) -> str:
-    vals = [r[key] for r in rows if r[key] is not None]
-    return "-" if not vals else f"{scale * min(vals):.1f}"
+    return "-" if not vals else f"{scale * (reduce or statistics.median)(vals):.{digits}f}"
 
 
 def perception_markdown(rows: list[dict[str, Any]]) -> list[str]:
@@ -129,9 +125,9 @@ def perception_markdown(rows: list[dict[str, Any]]) -> list[str]:
     for (sc, terrain), mine in sorted(groups.items()):
         alive = sum(not r["fell"] for r in mine)
         md.append(
-            f"| {sc} | {terrain} | {len(mine)} | {alive} of {len(mine)} | {_median(mine, 'end_x')} | "
-            f"{_median(mine, 'map_error_median', 1e3)} / {_median(mine, 'map_error_p95', 1e3)} | "
-            f"{_least(mine, 'edge_distance_min', 1e3)} / {_median(mine, 'edge_distance_median', 1e3)} | "
-            f"{_median(mine, 'replans', digits=0)} |"
+            f"| {sc} | {terrain} | {len(mine)} | {alive} of {len(mine)} | {_stat(mine, 'end_x')} | "
+            f"{_stat(mine, 'map_error_median', 1e3)} / {_stat(mine, 'map_error_p95', 1e3)} | "
+            f"{_stat(mine, 'edge_distance_min', 1e3, reduce=min)} / {_stat(mine, 'edge_distance_median', 1e3)} | "
+            f"{_stat(mine, 'replans', digits=0)} |"
         )
     return md
