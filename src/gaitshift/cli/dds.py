@@ -123,7 +123,9 @@ def dds_control_cmd(
     warm: bool = typer.Option(
         True, "--warm-up/--no-warm-up", help="Tick a throwaway controller first (fast 1st ticks)."
     ),
-    hold: float = typer.Option(0.5, "--hold", help="s standing still after the stand-up: the gyro calibration."),
+    hold: float | None = typer.Option(
+        None, "--hold", help="s standing still after the stand-up: the gyro calibration (default 2 s)."
+    ),
     calibrate: bool = typer.Option(
         True, "--calibrate/--no-calibrate", help="Calibrate the gyro from the hold's readings."
     ),
@@ -170,7 +172,7 @@ def dds_control_cmd(
         final_damping=final_damping,
         contact=contact,
         replan=replan,
-        hold=hold,
+        hold=BrainOptions.hold if hold is None else hold,
         calibrate=calibrate,
         cmd_topic=cmd_topic,
         diag_every=diag_every,

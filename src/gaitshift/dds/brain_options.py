@@ -4,6 +4,7 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from gaitshift.control.estimation.calibration import CALIBRATION_TIME
 from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.dds.safety import check_settings
 from gaitshift.dds.transport import check_domain
@@ -27,7 +28,8 @@ class BrainOptions:
         final_damping: s of damping written after ``stop`` or ``fault`` before exiting.
         contact: the controller's contact detection ("torque": no foot force needed).
         replan: where the controller re-plans (:mod:`gaitshift.control.replanner`; "process": off the tick).
-        hold: s of the still hold after the stand-up; its gyro readings calibrate the controller (0: none).
+        hold: s of the still hold after the stand-up; its gyro readings calibrate the controller (0: none;
+            the default is the simulation's standstill, ``CALIBRATION_TIME``).
         calibrate: feed the hold's gyro readings to ``Controller.calibrate`` (False: the hold only).
         cmd_topic: take live velocity commands from ``rt/gaitshift/cmd_vel`` (:mod:`gaitshift.dds.cmdvel`).
         diag_every: write the state estimate on ``rt/gaitshift/estimate`` every this many ticks (0: never).
@@ -52,7 +54,7 @@ class BrainOptions:
     final_damping: float = 0.2
     contact: str = "torque"
     replan: str = "process"
-    hold: float = 0.5
+    hold: float = CALIBRATION_TIME
     calibrate: bool = True
     cmd_topic: bool = False
     diag_every: int = 1

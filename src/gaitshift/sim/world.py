@@ -23,6 +23,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from gaitshift.control.estimation.calibration import CALIBRATION_TIME
 from gaitshift.control.estimation.noise import noise_profile
 from gaitshift.control.frames import MotorCommand, OracleState, SensorFrame
 from gaitshift.control.settings import contact_source
@@ -35,12 +36,7 @@ from gaitshift.sim.plant import Plant
 from gaitshift.sim.pushes import push_forces
 from gaitshift.sim.sensors import Readings, SensorModel
 
-__all__ = ["GYRO_CALIBRATION_TIME", "World", "with_floor_friction"]
-
-#: the robot stands still this long (s) before the run while the controller averages the gyro: the
-#: turn-on gyro bias, unobservable in heading once the robot runs, is calibrated away (eq. (1) of
-#: gaitshift.control.estimation.calibration)
-GYRO_CALIBRATION_TIME = 2.0
+__all__ = ["World", "with_floor_friction"]
 
 
 def with_floor_friction(plant: Any, mu: float | None) -> Any:
@@ -107,7 +103,7 @@ class World:
         q0 = self.d.qpos
         self.pelvis0 = float(q0[2] - ground.height(q0[0]))
 
-    def still_gyro(self, seconds: float = GYRO_CALIBRATION_TIME) -> np.ndarray:
+    def still_gyro(self, seconds: float = CALIBRATION_TIME) -> np.ndarray:
         """Gyro readings (N, 3) rad/s of the robot standing still before the run (the calibration)."""
         return self.sensors.still_gyro(seconds)
 
