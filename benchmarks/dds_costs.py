@@ -14,7 +14,7 @@ Per call, timed with ``time.perf_counter`` after warm-up calls, median and p99 (
   protocol work;
 * gaitshift's own topics' per-tick work in the brain: the estimate (``estimate_message`` and its
   ``serialize``, what a ``DataWriter.write`` does to it), a live command's check (``check_command``), and
-  a hold tick's gyro sample (``LegRate.residual``: the legs' rate of :mod:`gaitshift.dds.still_gyro`).
+  the gyro calibration of a 2 s hold, once at its end (``LegRate.samples`` of :mod:`gaitshift.dds.still_gyro`).
 """
 
 from __future__ import annotations
@@ -67,12 +67,13 @@ def own_topics(frame: SensorFrame, repeats: int) -> dict[str, dict[str, float]]:
     legs = LegRate(model.model, model.imu_site, tuple(model.robot.sole_bodies), model.motor_names)
     est = SimpleNamespace(qpos=np.r_[0, 0, 0.75, 1, 0, 0, 0, frame.q], qvel=np.zeros(35), contact=np.ones(2, bool))
     limits, cmd = CommandLimits(1.0, 0.5, 0.3, 1.0), VelocityCommand_(vx=0.4, yaw_rate=0.2)
+    hold = (0.002 * np.arange(1000), np.tile(frame.imu_gyro, (1000, 1)), np.tile(frame.q, (1000, 1)))
     return {
         "Estimate_ (built + serialize)": timed(
             lambda: estimate_message(7, 0.1, "locomotion", est).serialize(), repeats
         ),
         "check_command (VelocityCommand_)": timed(lambda: check_command(cmd, limits), repeats),
-        "LegRate.residual (a hold tick)": timed(lambda: legs.residual(frame.imu_gyro, frame.q, frame.dq), repeats),
+        "LegRate.samples (a 2 s hold, once)": timed(lambda: legs.samples(*hold), max(1, repeats // 100)),
     }
 
 

@@ -72,7 +72,8 @@ def row(res: dict) -> str:
     return (
         f"| {res['fault']} | {res['exit']} ({b.get('phase', '?')}: {b.get('reason', '')}) | {fell} | "
         f"{f(r, 'distance', '.2f')} / {f(b, 'planned_distance', '.2f')} | {r.get('link_dropped', 0)} / "
-        f"{r.get('link_corrupted', 0)} / {f(r, 'link_delay_ticks_mean', '.2f')} | {b.get('states_dropped', '-')} | "
+        f"{r.get('link_corrupted', 0)} / {r.get('link_superseded', 0)} / {f(r, 'link_delay_ticks_mean', '.2f')} | "
+        f"{b.get('states_dropped', '-')} | "
         f"{f(r, 'est_velocity_rmse')} | {f(r, 'est_tilt_rmse')} | {f(r, 'est_contact_accuracy', '.3f')} | "
         f"{f(b, 'tick_p50_ms', '.2f')} / {f(b, 'tick_p99_ms', '.2f')} / {f(b, 'tick_p999_ms', '.2f')} | "
         f"{res['wall_s']:.0f} |"
@@ -91,7 +92,7 @@ def main() -> None:
     args = ap.parse_args()
     results = []
     print(
-        "| link | brain exit | robot fell | distance / planned m | dropped / corrupted / mean delay ticks "
+        "| link | brain exit | robot fell | distance / planned m | dropped / corrupted / superseded / mean delay ticks "
         "| brain CRC drops | est. vel RMSE m/s | est. tilt RMSE rad | est. contact | brain tick p50 / p99 / p99.9 ms "
         "| wall s |\n|---|---|---|---|---|---|---|---|---|---|---|",
         flush=True,

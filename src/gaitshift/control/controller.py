@@ -49,7 +49,7 @@ from gaitshift.control.state import ControllerState, EstimateRecord, StateView
 from gaitshift.control.step_limits import StepLimits
 from gaitshift.control.wbc import WholeBodyController
 from gaitshift.control.wbc_data import TickInfo, TickReference, gains_for
-from gaitshift.errors import InputError, check_flag
+from gaitshift.errors import InputError, check_flag, number_in
 from gaitshift.robots.config import RobotConfig
 from gaitshift.robots.model import RobotModel, check_period, robot_model
 from gaitshift.trajectory.contract import OPEN_END, Trajectory
@@ -248,13 +248,16 @@ class Controller:
             raise InputError(what, "this plan", "a live-command (locomotion) scenario")
         return self.driver
 
-    def calibrate(self, still_gyro: np.ndarray) -> None:
-        """Gyro readings (N, 3) rad/s taken while the robot stood still before the first tick: the
-        estimator's gyro-bias prior (:mod:`gaitshift.control.estimation.calibration`)."""
+    def calibrate(self, still_gyro: np.ndarray, period: float | None = None) -> None:
+        """Gyro readings (N, 3) rad/s taken while the robot stood still before the first tick, one every
+        ``period`` s (None: the control period): the estimator's gyro-bias prior
+        (:mod:`gaitshift.control.estimation.calibration`)."""
         g = np.asarray(still_gyro, dtype=float)
         if g.ndim != 2 or g.shape[1] != 3 or len(g) < 2 or not np.all(np.isfinite(g)):
             raise InputError("still_gyro", g.shape, "an (N >= 2, 3) array of finite rates, rad/s")
-        self.state.calibrate(g)
+        if period is not None:
+            number_in("period", period, (1e-6, 60.0), "s")
+        self.state.calibrate(g, self.period if period is None else float(period))
 
     # --- the tick ------------------------------------------------------------------------------
 

@@ -261,12 +261,12 @@ class ControllerState:
         self._calibration: GyroCalibration | None = None
         self.start = self.qpos0  # the start state the estimator began from (the first frame's)
 
-    def calibrate(self, still_gyro: np.ndarray) -> None:
-        """The gyro bias of a standstill, the estimator's prior when it starts at the first tick: gyro
-        readings (N, 3) rad/s taken while the robot stood still (:mod:`gaitshift.control.estimation.calibration`)."""
+    def calibrate(self, still_gyro: np.ndarray, period: float) -> None:
+        """The estimator's gyro-bias prior at its first tick: readings (N, 3) rad/s, one every ``period`` s,
+        of the robot standing still (:mod:`gaitshift.control.estimation.calibration`)."""
         if self.estimator is None:
             return
-        self._calibration = GyroCalibration.from_samples(still_gyro, self.robot.dt, self.gyro_bias_walk)
+        self._calibration = GyroCalibration.from_samples(still_gyro, period, self.gyro_bias_walk)
 
     def observe(self, frame: SensorFrame, planned: np.ndarray) -> StateView:
         """The tick's view from ``frame`` (with the plan's contact flags ``planned`` (2,))."""

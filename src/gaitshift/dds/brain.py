@@ -124,7 +124,7 @@ class _Brain:
         self.commands = None if limits is None else CommandInput(sources, limits, say)
         self.page = live[1]
         self.diag = Diagnostics(endpoint, opts.diag_every) if opts.diag_every else None
-        self.gyro: list[np.ndarray] = []  # the hold's gyro readings less the legs' rate, rad/s
+        self.hold: list[tuple[float, np.ndarray, np.ndarray]] = []  # the hold's (t s, gyro rad/s, q rad)
         self.legs = (
             LegRate(ctrl.robot.model, ctrl.imu_site, ctrl.foot_bodies, ctrl.motor_names) if ctrl.imu_site else None
         )
@@ -212,7 +212,7 @@ class _Brain:
         else:
             cmd = self.safety.step(t, frame, age)
             if self.safety.phase == "hold" and self.legs is not None and self.opts.calibrate:
-                self.gyro.append(self.legs.residual(frame.imu_gyro, frame.q, frame.dq))
+                self.hold.append((t, frame.imu_gyro, frame.q))
         kind = 0
         if cmd is None and frame is not None:
             cmd, kind = self.locomotion(t, frame)
@@ -226,15 +226,19 @@ class _Brain:
         return kind
 
     def calibrate(self, t: float) -> bool:
-        """Before the controller's first tick: its gyro calibration from the hold's readings (fewer than two:
-        none); False, and a fault at ``t`` s, when the controller refuses them."""
-        self.calibrated, gyro = len(self.gyro), self.gyro
-        self.gyro = []
-        if self.calibrated < 2 or not self.opts.calibrate:
-            self.calibrated = 0
+        """Before the controller's first tick: its gyro calibration from the hold's readings
+        (:mod:`gaitshift.dds.still_gyro`; fewer than two samples: none); False, and a fault at ``t`` s,
+        when the controller refuses them."""
+        hold, self.hold = self.hold, []
+        samples, period = np.zeros((0, 3)), 0.0
+        if self.legs is not None and hold:
+            times, gyro, q = (np.array(column) for column in zip(*hold, strict=True))
+            samples, period = self.legs.samples(times, gyro, q)
+        self.calibrated = len(hold) if len(samples) >= 2 else 0
+        if not self.calibrated:
             return True
         try:
-            self.ctrl.calibrate(np.array(gyro))
+            self.ctrl.calibrate(samples, period)
         except GaitshiftError as e:
             self.safety.fault(t, f"calibration: {e}")
             return False

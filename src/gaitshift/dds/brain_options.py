@@ -93,7 +93,7 @@ class BrainSummary:
         planned_distance: m, the plan's horizontal CoM travel. wall_time: s. lockstep: the pacing.
         plan_lag_p50, plan_lag_max: ticks a background re-plan's plan came after the tick it was due at
         (NaN inline: none).
-        calibration_samples: gyro readings of the hold fed to ``Controller.calibrate`` (0: not calibrated).
+        calibration_samples: readings of the hold the gyro calibration took (0: not calibrated).
         commands_received, commands_accepted, commands_dropped, commands_applied: live commands (of
         ``rt/gaitshift/cmd_vel``, the browser page and the keys) taken, valid, refused (NaN, out of range,
         after a stop), handed to the controller;

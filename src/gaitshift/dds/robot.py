@@ -21,7 +21,10 @@ motors damp: ``kp = 0``, ``kd = damping_kd``, ``tau = 0``. Pacing: real time by 
 when a valid command has arrived after the newest intact state released at this tick was written (the state
 is written again every ``resend`` s of wall time meanwhile), so the controller may take its time; a tick
 that releases no intact state (one in flight, dropped or corrupted) steps on the command held, as a real
-robot would. The run ends after ``duration``
+robot would. A tick that releases several intact states (a delay that shrank: the link keeps their order)
+writes only the newest in lockstep, as a brain ticking in real time takes only the newest of those that
+came since its last tick; written all, which of them the brain answered first would depend on the
+machine's scheduling, and a run would not repeat (``link_superseded`` counts them). The run ends after ``duration``
 s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary either way).
 """
 
@@ -115,6 +118,8 @@ class RobotSummary:
         damping_ticks: ticks in damping. late_ticks: real time only: ticks that started over a period late.
         link_dropped, link_corrupted: states the link dropped, wrote with a wrong CRC;
         link_delay_ticks_mean, link_delay_ticks_max: ticks from a state's tick to its writing (NaN: none).
+        link_superseded: lockstep only: intact states the link released at a tick that released a newer
+        intact one, not written (module docstring).
         stopped_by: "duration" or the signal's name.
         estimates_received ... est_position_drift: the brain's estimate scored against the truth
         (:class:`~gaitshift.dds.scoring.ScoreSummary`; NaN when none was scored).
@@ -138,6 +143,7 @@ class RobotSummary:
     link_corrupted: int = 0
     link_delay_ticks_mean: float = math.nan
     link_delay_ticks_max: int = 0
+    link_superseded: int = 0
     stopped_by: str = ""
     estimates_received: int = 0
     estimates_scored: int = 0
@@ -191,7 +197,12 @@ class _Robot:
         self.score.truth(k, d.qpos, d.qvel, contacts.touching)
         self.link.take(k, lowstate_from_frame(self.world.sense(k), k, self.opts.mode_machine))
         self.awaiting = False
-        for state, intact in self.link.release(k):
+        released = self.link.release(k)
+        newest = max((i for i, (_, intact) in enumerate(released) if intact), default=-1)
+        for i, (state, intact) in enumerate(released):
+            if intact and i < newest and self.opts.lockstep:  # superseded (module docstring)
+                self.summary.link_superseded += 1
+                continue
             self.endpoint.writer.write(state)
             self.summary.states_published += 1
             if intact:

@@ -27,7 +27,7 @@ __all__ = ["CALIBRATION_TIME", "GyroCalibration"]
 #: s of standstill whose gyro readings eq. (1) averages before the first tick: ``gaitshift simulate``'s
 #: still robot and the DDS brain's hold after the stand-up (``--hold``). The brain's hold was 0.5 s until
 #: 2026-11-29: over a link delayed 3 ticks (brain ``--latency 3``) the G1 tour faulted on robot seeds 1, 2
-#: and 3 with it and ended without a fall on all three with 2 s (docs/deploy.md, "The delayed link")
+#: and 3 with it and ended without a fall on all three with 2 s (docs/deploy.md, "The hold's length")
 CALIBRATION_TIME = 2.0
 
 
