@@ -13,9 +13,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from gaitshift.common.rotations import tilt_error
 from gaitshift.dds.diagnostics import estimate_message
 from gaitshift.dds.own_messages import Estimate_
-from gaitshift.dds.scoring import EstimateScore, tilt_error, yaw_of
+from gaitshift.dds.scoring import EstimateScore, yaw_of
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["mid_yaw", "rot2", "rot_y", "rot_z", "wrap_angle"]
+__all__ = ["mid_yaw", "rot2", "rot_y", "rot_z", "tilt_error", "up_in_body", "wrap_angle"]
 
 
 def rot_z(yaw: float) -> np.ndarray:
@@ -38,3 +38,29 @@ def wrap_angle(a: float) -> float:
 def mid_yaw(a: float, b: float) -> float:
     """The yaw halfway between ``a`` and ``b`` the shorter way round (circular mean), rad."""
     return math.atan2(math.sin(a) + math.sin(b), math.cos(a) + math.cos(b))
+
+
+def up_in_body(quat: npt.ArrayLike) -> np.ndarray:
+    """The world's z axis in the body frame of unit quaternions (..., 4) w, x, y, z: the third row of the
+    rotation, (..., 3). Gravity points along minus it; a rotation about the world's z (a heading) leaves it
+    unchanged."""
+    w, x, y, z = np.moveaxis(np.asarray(quat, dtype=float), -1, 0)
+    return np.stack([2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)], axis=-1)
+
+
+def tilt_error(q_est: npt.ArrayLike, q_true: npt.ArrayLike) -> np.ndarray:
+    """The tilt error, rad, of an orientation estimate: the angle between the vertical as the two body
+    frames see it (quaternions (..., 4) w, x, y, z, normalised here),
+
+    .. math::
+
+        e = \\angle(R_{est}^T e_z,\\; R^T e_z),
+
+    zero for a heading error alone, however the body leans. (The angle between the two body z axes in the
+    world, ``angle(R_est e_z, R e_z)``, is not: a heading error ``psi`` on a body leaning by ``theta`` reads
+    as about ``psi sin(theta)``.)"""
+    qa, qb = np.asarray(q_est, dtype=float), np.asarray(q_true, dtype=float)
+    a = up_in_body(qa / np.linalg.norm(qa, axis=-1, keepdims=True))
+    b = up_in_body(qb / np.linalg.norm(qb, axis=-1, keepdims=True))
+    out: np.ndarray = np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+    return out

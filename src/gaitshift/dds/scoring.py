@@ -25,7 +25,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["KEEP", "EstimateScore", "ScoreSummary", "tilt_error", "yaw_of"]
+from gaitshift.common.rotations import tilt_error
+
+__all__ = ["KEEP", "EstimateScore", "ScoreSummary", "yaw_of"]
 
 #: ticks of truth kept (8 s at 2 ms): an estimate about an older tick is counted as unmatched
 KEEP = 4096
@@ -35,19 +37,6 @@ def yaw_of(quat: np.ndarray) -> float:
     """The yaw, rad, of a unit quaternion w x y z (z-y-x Euler angles)."""
     w, x, y, z = (float(c) for c in quat)
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def _up_in_body(quat: np.ndarray) -> np.ndarray:
-    """The world's z axis in the body frame of the unit quaternion w x y z: the third row of R."""
-    w, x, y, z = (float(c) for c in quat)
-    return np.array([2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)])
-
-
-def tilt_error(q_est: np.ndarray, q_true: np.ndarray) -> float:
-    """The angle, rad, between the vertical in the two body frames (w x y z quaternions): the tilt error."""
-    a, b = _up_in_body(q_est), _up_in_body(q_true)
-    c = float(np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b)))
-    return math.acos(max(-1.0, min(1.0, c)))
 
 
 def _heading_velocity(vel: np.ndarray, yaw: float) -> np.ndarray:
@@ -116,7 +105,7 @@ class EstimateScore:
         yaw_e, yaw_t = yaw_of(quat), yaw_of(t_quat)
         dv = _heading_velocity(np.asarray(msg.base_vel, float), yaw_e) - _heading_velocity(self.vel[i], yaw_t)
         self.sq_vel.append(float(dv @ dv))
-        self.tilt.append(tilt_error(quat, t_quat))
+        self.tilt.append(float(tilt_error(quat, t_quat)))
         self.height.append(float(pos[2] - t_pos[2]))
         flags = np.array(list(msg.contact[:2]), int) != 0  # uint8[2]: bytes once off the wire, a list before
         self.contact_hits += int(np.sum(flags == self.touch[i]))

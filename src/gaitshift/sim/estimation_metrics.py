@@ -5,7 +5,8 @@ estimate: ``est_*`` of :class:`gaitshift.sim.log.EstimationLog`), over the ticks
 (tick 0 is the known start state):
 
 * ``base_vel_rmse``: ``sqrt(mean |v_hat - v|^2)`` of the base origin's 3D velocity, m/s;
-* ``tilt_rmse``: RMS of the angle between the estimated and the true base z axes, rad;
+* ``tilt_rmse``: RMS of the tilt error, rad: the angle between the vertical as the estimated and the
+  true base frames see it (:func:`gaitshift.common.rotations.tilt_error`; a heading error alone is none);
 * ``yaw_drift``: ``|yaw_hat - yaw|`` of the base at the last tick (wrapped to [0, pi]), rad;
 * ``pos_drift_per_m``: horizontal base position error at the last tick over the horizontal distance the
   base travelled (sum of ``|dp_xy|``), m/m (null below 0.1 m travelled);
@@ -26,11 +27,7 @@ from typing import Any
 
 import numpy as np
 
-
-def _z_axis(q: np.ndarray) -> np.ndarray:
-    """Third column of the rotation of quaternions (K, 4) (w, x, y, z): (K, 3)."""
-    w, x, y, z = q.T
-    return np.stack([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)], axis=1)
+from gaitshift.common.rotations import tilt_error
 
 
 def _yaw(q: np.ndarray) -> np.ndarray:
@@ -51,8 +48,7 @@ def estimation_errors(a: dict[str, np.ndarray]) -> dict[str, Any]:
         return {}
     s = slice(1, n)
     q, qh = a["qpos"][s], a["est_qpos"][s]
-    za, zb = _z_axis(q[:, 3:7]), _z_axis(qh[:, 3:7] / np.linalg.norm(qh[:, 3:7], axis=1, keepdims=True))
-    tilt = np.arctan2(np.linalg.norm(np.cross(za, zb), axis=1), np.sum(za * zb, axis=1))
+    tilt = tilt_error(qh[:, 3:7], q[:, 3:7])
     dyaw = _yaw(qh[-1:, 3:7])[0] - _yaw(q[-1:, 3:7])[0]
     travelled = float(np.sum(np.linalg.norm(np.diff(a["qpos"][:, :2], axis=0), axis=1)))
     drift = float(np.linalg.norm(qh[-1, :2] - q[-1, :2]))

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from gaitshift.common.rotations import tilt_error
 from gaitshift.common.runs import true_runs
 
 __all__ = ["CAUSES", "fall_cause", "longest_run"]
@@ -57,20 +58,11 @@ def longest_run(mask: np.ndarray) -> int:
     return max((b - a for col in m.T for a, b in true_runs(col)), default=0)
 
 
-def _z_axes(quat: np.ndarray) -> np.ndarray:
-    """The body z axes (N, 3) of unit quaternions (N, 4) w, x, y, z."""
-    w, x, y, z = quat.T
-    return np.stack([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)], axis=1)
-
-
 def _estimate_wrong(a: dict[str, np.ndarray], s: slice, dt: float) -> bool:
     """Rule 3 over the rows ``s`` (module docstring); False when the run has no estimate."""
     if "est_qpos" not in a:
         return False
-    zt, ze = _z_axes(a["qpos"][s, 3:7]), _z_axes(a["est_qpos"][s, 3:7])
-    zt /= np.linalg.norm(zt, axis=1, keepdims=True)
-    ze /= np.linalg.norm(ze, axis=1, keepdims=True)
-    tilt = np.arccos(np.clip(np.sum(zt * ze, axis=1), -1.0, 1.0))
+    tilt = tilt_error(a["est_qpos"][s, 3:7], a["qpos"][s, 3:7])
     vel = np.linalg.norm(a["qvel"][s, :2] - a["est_qvel"][s, :2], axis=1)
     wrong = a["est_contact"][s].astype(bool) != a["contact"][s].astype(bool)
     return bool(np.any(tilt > TILT_ERROR) or np.any(vel > VELOCITY_ERROR) or longest_run(wrong) * dt >= CONTACT_TIME)
