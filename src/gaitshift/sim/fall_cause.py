@@ -14,7 +14,8 @@ cause:
    .. math:: \\lVert \\dot p_{xy} \\rVert = \\lVert p_{xy}[k+1] - p_{xy}[k] \\rVert / \\Delta t > v_{slip}
 
 3. ``estimate``: the controller's estimate was wrong: its base tilt off the truth's by more than
-   :data:`TILT_ERROR` rad (the angle between the two base z axes), or its horizontal base velocity off
+   :data:`TILT_ERROR` rad (the vertical as the two base frames see it,
+   :func:`gaitshift.common.rotations.tilt_error`), or its horizontal base velocity off
    by more than :data:`VELOCITY_ERROR` m/s, or its fused contact wrong on a sole for
    :data:`CONTACT_TIME` s in a row.
 4. ``torque``: a motor's command was at :data:`SATURATION` of its limit or more for
