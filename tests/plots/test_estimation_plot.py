@@ -10,7 +10,8 @@ import json
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from gaitshift.plots.estimation import estimate_vs_truth, roll_pitch_yaw
+from gaitshift.common.rotations import roll_pitch_yaw
+from gaitshift.plots.estimation import estimate_vs_truth
 
 
 def _quat_wxyz(euler_zyx: np.ndarray) -> np.ndarray:

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["mid_yaw", "rot2", "rot_y", "rot_z", "tilt_error", "up_in_body", "wrap_angle"]
+__all__ = ["mid_yaw", "roll_pitch_yaw", "rot2", "rot_y", "rot_z", "tilt_error", "up_in_body", "wrap_angle"]
 
 
 def rot_z(yaw: float) -> np.ndarray:
@@ -38,6 +38,17 @@ def wrap_angle(a: float) -> float:
 def mid_yaw(a: float, b: float) -> float:
     """The yaw halfway between ``a`` and ``b`` the shorter way round (circular mean), rad."""
     return math.atan2(math.sin(a) + math.sin(b), math.cos(a) + math.cos(b))
+
+
+def roll_pitch_yaw(quat: npt.ArrayLike) -> np.ndarray:
+    """Roll, pitch, yaw (..., 3) rad (z-y-x Euler angles: R = Rz(yaw) Ry(pitch) Rx(roll)) of quaternions
+    (..., 4) w, x, y, z; normalised first."""
+    q = np.asarray(quat, dtype=float)
+    w, x, y, z = np.moveaxis(q / np.linalg.norm(q, axis=-1, keepdims=True), -1, 0)
+    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
+    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return np.stack([roll, pitch, yaw], axis=-1)
 
 
 def up_in_body(quat: npt.ArrayLike) -> np.ndarray:

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from gaitshift.common.rotations import roll_pitch_yaw
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.dds.cdr import HEADER, LOWCMD, StateBytes
 from gaitshift.dds.crc import lowcmd_crc, lowstate_crc
@@ -34,7 +35,6 @@ __all__ = [
     "lowcmd_bytes",
     "lowcmd_from_command",
     "lowstate_from_frame",
-    "rpy",
 ]
 
 F32_MAX = float(np.finfo(np.float32).max)
@@ -156,15 +156,6 @@ def command_from_lowcmd(msg: LowCmd_, n_motors: int) -> MotorCommand:
     return MotorCommand(q=a["q"], dq=a["dq"], kp=a["kp"] * on, kd=a["kd"] * on, tau=a["tau"] * on)
 
 
-def rpy(quat: np.ndarray) -> np.ndarray:
-    """Roll, pitch, yaw (3,) rad (Z-Y-X Euler angles) of a unit quaternion (4,) w x y z."""
-    w, x, y, z = (float(c) for c in quat)
-    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
-    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    return np.array([roll, pitch, yaw])
-
-
 def lowstate_from_frame(frame: SensorFrame, tick: int, mode_machine: int, mode_pr: int = 0) -> LowState_:
     """The ``LowState_`` a robot sends for ``frame`` (n motors in slots 0..n-1, ``mode = 1``; the IMU with
     its roll, pitch, yaw): ``tick`` the robot's counter (taken modulo 2^32), the CRC set. The frame's
@@ -178,7 +169,7 @@ def lowstate_from_frame(frame: SensorFrame, tick: int, mode_machine: int, mode_p
         "quaternion": _as_sent(quat),
         "gyroscope": _as_sent(_floats("SensorFrame.imu_gyro", frame.imu_gyro, 3)),
         "accelerometer": _as_sent(_floats("SensorFrame.imu_acc", frame.imu_acc, 3)),
-        "rpy": _as_sent(rpy(quat)),
+        "rpy": _as_sent(roll_pitch_yaw(quat)),
     }
     rows = _as_sent(np.stack([per_motor["q"], per_motor["dq"], per_motor["tau_est"]], axis=1))
     motors = [MotorState_(mode=1, q=q, dq=dq, tau_est=tau) for q, dq, tau in rows]

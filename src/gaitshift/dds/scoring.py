@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.common.rotations import tilt_error
+from gaitshift.common.rotations import roll_pitch_yaw, tilt_error
 
 __all__ = ["KEEP", "EstimateScore", "ScoreSummary", "yaw_of"]
 
@@ -35,8 +35,7 @@ KEEP = 4096
 
 def yaw_of(quat: np.ndarray) -> float:
     """The yaw, rad, of a unit quaternion w x y z (z-y-x Euler angles)."""
-    w, x, y, z = (float(c) for c in quat)
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return float(roll_pitch_yaw(quat)[2])
 
 
 def _heading_velocity(vel: np.ndarray, yaw: float) -> np.ndarray:

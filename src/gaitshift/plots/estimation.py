@@ -28,23 +28,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from gaitshift.common.rotations import roll_pitch_yaw
 from gaitshift.errors import InputError
 from gaitshift.plots.files import save_figure
 from gaitshift.trajectory.formats import NPZ_ERRORS
 
 #: the arrays the figure reads
 KEYS = ("t", "qpos", "qvel", "contact", "grf", "est_qpos", "est_qvel", "est_contact")
-
-
-def roll_pitch_yaw(quat: np.ndarray) -> np.ndarray:
-    """Roll, pitch, yaw (K, 3) rad (z-y-x Euler angles: R = Rz(yaw) Ry(pitch) Rx(roll)) of unit
-    quaternions (K, 4) (w, x, y, z); normalised first."""
-    q = quat / np.linalg.norm(quat, axis=1, keepdims=True)
-    w, x, y, z = q.T
-    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
-    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    return np.stack([roll, pitch, yaw], axis=1)
 
 
 def estimate_vs_truth(a: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

@@ -27,14 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.common.rotations import tilt_error
-
-
-def _yaw(q: np.ndarray) -> np.ndarray:
-    """Heading of the x axis of quaternions (K, 4), rad."""
-    w, x, y, z = q.T
-    out: np.ndarray = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    return out
+from gaitshift.common.rotations import roll_pitch_yaw, tilt_error
 
 
 def _rms(err: np.ndarray) -> float:
@@ -49,7 +42,7 @@ def estimation_errors(a: dict[str, np.ndarray]) -> dict[str, Any]:
     s = slice(1, n)
     q, qh = a["qpos"][s], a["est_qpos"][s]
     tilt = tilt_error(qh[:, 3:7], q[:, 3:7])
-    dyaw = _yaw(qh[-1:, 3:7])[0] - _yaw(q[-1:, 3:7])[0]
+    dyaw = roll_pitch_yaw(qh[-1, 3:7])[2] - roll_pitch_yaw(q[-1, 3:7])[2]
     travelled = float(np.sum(np.linalg.norm(np.diff(a["qpos"][:, :2], axis=0), axis=1)))
     drift = float(np.linalg.norm(qh[-1, :2] - q[-1, :2]))
     cost = a["est_tick_us"][s]
