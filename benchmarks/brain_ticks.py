@@ -26,7 +26,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from gaitshift.dds.brain import BrainOptions, build_controller
+from gaitshift.dds.brain import BrainOptions
+from gaitshift.dds.brain_setup import build_controller
 from gaitshift.dds.cdr import StateBytes
 from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes, lowcmd_from_command, lowstate_from_frame
 from gaitshift.dds.gravity import standing_torques

@@ -9,7 +9,7 @@ lockstep the wall clock measures the machine's load, not the link. The brain re-
 worker's plans come later the busier the machine, a real-time matter: docs/deploy.md "Real time").
 
     PYTHONPATH=src .venv/bin/python benchmarks/dds_faults.py [SCENARIO] [--noise typical] [--domain 120]
-        [--only clean drop ...] [--latency TICKS] [--replan inline] [--json out.json]
+        [--only clean drop ...] [--latency TICKS] [--replan inline] [--seed 1] [--json out.json]
 """
 
 from __future__ import annotations
@@ -35,13 +35,20 @@ CODE = "from gaitshift.cli import main; main()"
 
 
 def run(
-    scenario: str, name: str, domain: int, noise: str, folder: Path, latency: int = 0, replan: str = "inline"
+    scenario: str,
+    name: str,
+    domain: int,
+    noise: str,
+    folder: Path,
+    latency: int = 0,
+    replan: str = "inline",
+    seed: int = 1,
 ) -> dict:
     """One run of the pair (module docstring): both summaries and the wall time."""
     env = {**os.environ, "MUJOCO_GL": "egl"}
     robot_json = folder / f"robot-{domain}.json"
     robot_cmd = ["dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--noise", noise]
-    robot_cmd += ["--summary", str(robot_json), "--world", scenario, "--seed", "1", *FAULTS[name]]
+    robot_cmd += ["--summary", str(robot_json), "--world", scenario, "--seed", str(seed), *FAULTS[name]]
     brain_cmd = ["dds", "control", scenario, "--domain", str(domain), "--lockstep", "--json", "--stale-limit", "0.5"]
     brain_cmd += ["--latency", str(latency), "--replan", replan]
     start = time.perf_counter()
@@ -72,7 +79,7 @@ def row(res: dict) -> str:
     return (
         f"| {res['fault']} | {res['exit']} ({b.get('phase', '?')}: {b.get('reason', '')}) | {fell} | "
         f"{f(r, 'distance', '.2f')} / {f(b, 'planned_distance', '.2f')} | {r.get('link_dropped', 0)} / "
-        f"{r.get('link_corrupted', 0)} / {r.get('link_superseded', 0)} / {f(r, 'link_delay_ticks_mean', '.2f')} | "
+        f"{r.get('link_corrupted', 0)} / {b.get('states_measured_only', 0)} / {f(r, 'link_delay_ticks_mean', '.2f')} | "
         f"{b.get('states_dropped', '-')} | "
         f"{f(r, 'est_velocity_rmse')} | {f(r, 'est_tilt_rmse')} | {f(r, 'est_contact_accuracy', '.3f')} | "
         f"{f(b, 'tick_p50_ms', '.2f')} / {f(b, 'tick_p99_ms', '.2f')} / {f(b, 'tick_p999_ms', '.2f')} | "
@@ -88,18 +95,20 @@ def main() -> None:
     ap.add_argument("--only", nargs="+", choices=list(FAULTS), default=list(FAULTS))
     ap.add_argument("--latency", type=int, default=0, help="the brain's --latency (ticks it predicts across)")
     ap.add_argument("--replan", default="inline", help="the brain's --replan (lockstep: inline is deterministic)")
+    ap.add_argument("--seed", type=int, default=1, help="the robot process's --seed (its noise and link faults)")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     results = []
     print(
-        "| link | brain exit | robot fell | distance / planned m | dropped / corrupted / superseded / mean delay ticks "
+        "| link | brain exit | robot fell | distance / planned m "
+        "| dropped / corrupted / measured only / mean delay ticks "
         "| brain CRC drops | est. vel RMSE m/s | est. tilt RMSE rad | est. contact | brain tick p50 / p99 / p99.9 ms "
         "| wall s |\n|---|---|---|---|---|---|---|---|---|---|---|",
         flush=True,
     )
     with tempfile.TemporaryDirectory() as tmp:
         for i, name in enumerate(args.only):
-            res = run(args.scenario, name, args.domain + i, args.noise, Path(tmp), args.latency, args.replan)
+            res = run(args.scenario, name, args.domain + i, args.noise, Path(tmp), args.latency, args.replan, args.seed)
             results.append(res)
             print(row(res), flush=True)
     if args.json:

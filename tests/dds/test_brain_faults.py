@@ -15,7 +15,8 @@ from dds_processes import finish
 from gaitshift.control.frames import SensorFrame
 from gaitshift.dds.convert import lowstate_from_frame
 from gaitshift.dds.crc import lowstate_crc
-from gaitshift.dds.transport import open_endpoint
+from gaitshift.dds.own_messages import CLOCK_TOPIC, Clock_
+from gaitshift.dds.transport import open_endpoint, topic_writer
 
 N = 29
 #: offsets 40.. past test_robot_process.py's and test_brain_process.py's on the same pid-derived base
@@ -48,10 +49,17 @@ def state(k, tau=0.0):
 
 
 def script(proc, robot, make, timeout=90.0):
-    """Answer each command with the next states ``make(k)`` (a list, written in order) until the brain
-    exits; the commands received."""
+    """Answer each command with the next states ``make(k)`` (a list, written in order) and the lockstep
+    clock of tick ``k`` naming state ``k`` (gaitshift.dds.lockstep) until the brain exits; the commands
+    received."""
     k, commands, deadline = 0, [], time.monotonic() + timeout
-    send = lambda k: [robot.writer.write(m) for m in make(k)]  # noqa: E731
+    clock = topic_writer(robot, CLOCK_TOPIC, Clock_)
+
+    def send(k):
+        for m in make(k):
+            robot.writer.write(m)
+        clock.write(Clock_(tick=k, state_tick=k))
+
     send(0)
     while proc.poll() is None and time.monotonic() < deadline:
         if not robot.wait(0.05):

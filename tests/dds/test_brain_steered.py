@@ -16,7 +16,7 @@ import time
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 
 from dds_processes import BRAIN_FLAGS, finish, gaitshift, live_scenario
-from gaitshift.dds.own_messages import CMD_VEL_TOPIC, ESTIMATE_TOPIC, Estimate_, VelocityCommand_
+from gaitshift.dds.own_messages import CLOCK_TOPIC, CMD_VEL_TOPIC, ESTIMATE_TOPIC, Estimate_, VelocityCommand_
 from gaitshift.dds.transport import open_participant, topic_reader, topic_writer
 
 #: offset 36 on test_robot_process.py's pid-derived base (see test_cmdvel.py)
@@ -86,9 +86,10 @@ def test_the_brain_is_steered_over_dds_and_its_estimate_is_scored_without_the_tr
     # the estimate, scored by the robot on the ticks the brain acted on
     assert r["estimates_scored"] == s["locomotion_ticks"] and r["estimates_unmatched"] == 0
     assert r["est_velocity_rmse"] < 0.05 and r["est_tilt_rmse"] < 0.05 and r["est_contact_accuracy"] > 0.6
-    # discovery: the brain reads the state and the commands, nothing else; the robot writes the state only
+    # discovery: the brain reads the state, the lockstep clock (tick counts) and the commands, nothing else;
+    # the robot writes the state and its clock only
     brain_key = next(k for k, topics in subs.items() if "rt/lowstate" in topics)
     robot_key = next(k for k, topics in pubs.items() if "rt/lowstate" in topics)
-    assert subs[brain_key] == {"rt/lowstate", CMD_VEL_TOPIC}
+    assert subs[brain_key] == {"rt/lowstate", CLOCK_TOPIC, CMD_VEL_TOPIC}
     assert pubs[brain_key] == {"rt/lowcmd", ESTIMATE_TOPIC}
-    assert pubs[robot_key] == {"rt/lowstate"}
+    assert pubs[robot_key] == {"rt/lowstate", CLOCK_TOPIC}

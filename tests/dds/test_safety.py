@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from gaitshift.control.frames import MotorCommand, SensorFrame
-from gaitshift.dds.brain import passive_at_start
+from gaitshift.dds.brain_setup import passive_at_start
 from gaitshift.dds.safety import Limits, Safety, SafetySettings, standup_gains, tilt_angle
 
 N = 3

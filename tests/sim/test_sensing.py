@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 import gaitshift
-from gaitshift.control.state import DEFAULT_ASSUMED_FRICTION, LatencyPredictor
+from gaitshift.control.prediction import LatencyPredictor
+from gaitshift.control.state import DEFAULT_ASSUMED_FRICTION, MAX_BRIDGE
 from gaitshift.errors import InputError
 from gaitshift.robots.model import standing_qpos
 from gaitshift.sim.contacts import ContactSensor
@@ -196,7 +197,7 @@ def test_the_floor_friction_option_sets_the_contact_friction():
 
 def test_the_latency_pipe_delays_torques_by_l_ticks_and_predicts_constant_acceleration():
     m = build_plant().model
-    pipe, predictor = CommandDelay(3), LatencyPredictor(m, 3)
+    pipe, predictor = CommandDelay(3), LatencyPredictor(m, 3, MAX_BRIDGE)
     out = [pipe.send(np.full(m.nu, float(k))) for k in range(6)]
     assert [o[0] for o in out] == [0.0, 0.0, 0.0, 0.0, 1.0, 2.0]  # starts full of the first command
     for _ in range(6):

@@ -44,7 +44,7 @@ def dds_robot_cmd(
     iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
     duration: float | None = typer.Option(None, "--duration", help="Simulated seconds to run (default: until ^C)."),
     summary: Path | None = typer.Option(None, "--summary", help="JSON summary, written on exit and on SIGINT/SIGTERM."),
-    lockstep: bool = typer.Option(False, "--lockstep", help="Step only when a command for the last state came."),
+    lockstep: bool = typer.Option(False, "--lockstep", help="Step only when this tick's command came."),
     damping_after: float = typer.Option(0.1, "--damping-after", help="s without a command before damping."),
     damping_kd: float = typer.Option(2.0, "--damping-kd", help="Damping gain, N m s/rad (kp = 0)."),
     mode_machine: int = typer.Option(0, "--mode-machine", help="The hardware variant reported in LowState_."),
@@ -107,7 +107,7 @@ def dds_control_cmd(
     domain: int = typer.Option(1, "--domain", help="DDS domain id (1: simulation; 0, a robot: --real-robot)."),
     iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
     as_json: bool = typer.Option(False, "--json", help="Print the run's summary as JSON (alone on stdout)."),
-    lockstep: bool = typer.Option(False, "--lockstep", help="Tick once per new state instead of every 2 ms."),
+    lockstep: bool = typer.Option(False, "--lockstep", help="Tick once per robot tick instead of every 2 ms."),
     state_timeout: float = typer.Option(10.0, "--state-timeout", help="s to wait for the robot's first state."),
     real_robot: bool = typer.Option(False, "--real-robot", help="Allow domain 0; refuse unless the robot damps."),
     stale_limit: float = typer.Option(0.02, "--stale-limit", help="s: an older state is a fault (damping)."),
@@ -186,7 +186,8 @@ def _start_brain(opts: BrainOptions, warm: bool, as_json: bool, web: tuple[bool,
     """Build the controller, warm up, open the live inputs (``web`` = (--web, --web-port), ``teleop``),
     run the brain, report."""
     from gaitshift.cli.dds_live import live_inputs
-    from gaitshift.dds.brain import build_controller, run_brain
+    from gaitshift.dds.brain import run_brain
+    from gaitshift.dds.brain_setup import build_controller
     from gaitshift.dds.cmdvel import live_limits
     from gaitshift.dds.warmup import warm_up
 

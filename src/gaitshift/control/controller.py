@@ -45,7 +45,7 @@ from gaitshift.control.reference import tick_reference
 from gaitshift.control.replanner import replanner
 from gaitshift.control.schedule import FootScheduler
 from gaitshift.control.settings import ControllerSettings, contact_source, floor_height
-from gaitshift.control.state import ControllerState, EstimateRecord, StateView
+from gaitshift.control.state import MAX_BRIDGE, ControllerState, EstimateRecord, StateView
 from gaitshift.control.step_limits import StepLimits
 from gaitshift.control.wbc import WholeBodyController
 from gaitshift.control.wbc_data import TickInfo, TickReference, gains_for
@@ -261,12 +261,18 @@ class Controller:
 
     # --- the tick ------------------------------------------------------------------------------
 
-    def tick(self, frame: SensorFrame) -> MotorCommand:
-        """One control period: the frame in, the motor command out (module docstring)."""
+    def tick(self, frame: SensorFrame, age: int = 0) -> MotorCommand:
+        """One control period: the frame in, the motor command out (module docstring). ``age``: ticks between
+        the frame's readings (taken at ``frame.t``) and this tick, for a host whose link delays them; the
+        controller acts at ``frame.t + age`` periods, on the state predicted across the commands sent since
+        (:mod:`gaitshift.control.prediction`). A frame of the last one's ``t`` (no new readings) is not
+        measured again."""
         self._check(frame)
-        tp = self.plan_time(frame.t)
+        if isinstance(age, bool) or not isinstance(age, int | np.integer) or not 0 <= age <= MAX_BRIDGE:
+            raise InputError("age", age, f"an integer number of ticks in [0, {MAX_BRIDGE}]")
+        tp = self.plan_time(frame.t + int(age) * self.dt)
         planned = self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)]  # the plan's flags
-        view = self.state.observe(frame, planned)
+        view = self.state.observe(frame, planned, int(age))
         if frame.depth_points is not None and self.perceiver is not None:
             self.perceiver.frame(frame.t, frame.depth_points, view.data)
         i = self._plan_index(tp, view)
@@ -275,6 +281,13 @@ class Controller:
         rec = TickRecord(tp, i, ref, info, self.shift.shift.copy(), self.traj.contact[i], self.state.record)
         self.record = rec
         return MotorCommand.torque(tau)
+
+    def measure(self, frame: SensorFrame) -> None:
+        """Readings that a newer frame overtook before a tick (a link that brought two at once): the estimator
+        takes them, in the order taken, before the tick on the newest; no command."""
+        self._check(frame)
+        tp = self.plan_time(frame.t)
+        self.state.measure(frame, self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)])
 
     def _check(self, frame: SensorFrame) -> None:
         """:class:`InputError` naming the first per-motor field of ``frame`` of the wrong size or not finite."""

@@ -5,7 +5,7 @@ Per tick::
     x_hat    = estimator.step(frame, planned)        StateEstimator (inekf by default); planned: the plan's
                                                      contact flags at this tick (the fused contact)
     x_ctrl   = x_hat (estimated) | frame.oracle      one state for controller, driver and step feedback
-    x_ctrl   = predict(x_ctrl, pending commands)     latency compensation, eq. (1) below
+    x_ctrl   = predict(x_ctrl, pending commands)     latency and age compensation (control.prediction)
     data.qpos, qvel = x_ctrl; mj_forward            the controller's OWN MjData (contacts off)
 
 The controller, the driver and the step feedback read only :class:`StateView`: the controller's
@@ -24,15 +24,11 @@ state at rest, both feet down on a level floor: the plan's start pose with the j
 and the base tilt that puts the soles level (:func:`~gaitshift.control.initial_pose.sensed_start`); the
 estimator starts from it.
 
-Latency: when the controller knows that its command acts ``L`` ticks after the frame it was computed
-from, it acts on the state predicted for that tick from the ``L`` commands already sent and the joint
-accelerations ``qdd_j`` its QP planned for them (semi-implicit Euler, as MuJoCo integrates)::
-
-    v_{j+1} = v_j + dt qdd_j,   q_{j+1} = q_j (+) dt v_{j+1}     for the L pending commands      (1)
-
-The contact from the torques takes the estimated state before (1): the prediction carries the QP's own
-accelerations, with which eq. (2) of :mod:`~gaitshift.control.estimation.torque_contact` gives back the
-forces the QP assumed (4 ticks of latency: every g1-walk touch-down taken 13-95 ticks early).
+Latency: the controller acts on the state predicted for the tick its command acts at
+(:mod:`gaitshift.control.prediction`): ``latency`` ticks after the frame, plus the frame's ``age`` (ticks
+between its readings and the tick, for a host whose link delays them). A frame repeated with the same ``t``
+(a tick that brought no new readings) is not measured again: the estimate of its first tick is predicted
+one tick further.
 
 Missing states: a frame ``g > 1`` periods after the last one (a state the link lost or corrupted, over
 DDS) first steps the estimator through the ``g - 1`` ticks it did not see, on the new frame's readings held
@@ -57,7 +53,6 @@ from __future__ import annotations
 import copy
 import math
 import time
-from collections import deque
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -74,6 +69,7 @@ from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
 from gaitshift.control.frames import SensorFrame
 from gaitshift.control.initial_pose import sensed_start
+from gaitshift.control.prediction import LatencyPredictor
 from gaitshift.errors import InputError
 from gaitshift.robots.model import RobotModel
 
@@ -158,35 +154,6 @@ class OracleSlip:
         return slip
 
 
-class LatencyPredictor:
-    """Eq. (1) of the module docstring over the ``latency`` ticks of commands still on their way."""
-
-    def __init__(self, model: Any, latency: int) -> None:
-        self.model = model
-        self.dt = float(model.opt.timestep)
-        self.pending: deque[np.ndarray] = deque(maxlen=max(int(latency), 1))
-        self.on = int(latency) > 0
-
-    def predict(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The state (nq,), (nv,) at the tick the next command acts, from the state now."""
-        if not self.on or not self.pending:
-            return qpos, qvel
-        q, v = qpos.copy(), qvel.copy()
-        for qdd in self.pending:
-            v += self.dt * qdd
-            mujoco.mj_integratePos(self.model, q, v, self.dt)
-        return q, v
-
-    def sent(self, qdd: np.ndarray | None) -> None:
-        """The command just sent planned ``qdd`` (nv,) (None when the QP failed: zero assumed)."""
-        if not self.on:
-            return
-        acc = np.zeros(self.model.nv) if qdd is None else np.asarray(qdd, float)
-        if not self.pending:  # the commands before the first: the first command, planned at rest
-            self.pending.extend(np.zeros_like(acc) for _ in range(self.pending.maxlen or 1))
-        self.pending.append(acc.copy())
-
-
 class ControllerState:
     """Estimator, oracle path, latency prediction, friction belief and the controller's ``MjData``
     (module docstring).
@@ -223,7 +190,7 @@ class ControllerState:
         self.cmodel = copy.copy(m)
         self.cmodel.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
         self.cdata = mujoco.MjData(m)
-        self.predictor = LatencyPredictor(self.cmodel, latency)
+        self.predictor = LatencyPredictor(self.cmodel, latency, MAX_BRIDGE)
         self.mu = float(assumed_friction if assumed_friction is not None else DEFAULT_ASSUMED_FRICTION)
         self._slip_prev = np.zeros(2, bool)
         self.oracle_slip = OracleSlip(robot.dt)
@@ -237,6 +204,8 @@ class ControllerState:
         self._last_t = 0.0  # s, the time of the last frame
         # the last tick's estimated state (nq,), (nv,) before the latency prediction (module docstring)
         self._measured = (self.qpos0, np.zeros(m.nv))
+        # the state the last tick acted on, before the prediction: q (nq,), v (nv,), touching, slip (2,)
+        self._acted = (self.qpos0, np.zeros(m.nv), np.ones(2, bool), np.zeros(2, bool))
         tuning = FilterTuning.from_profile(profile, robot.dt, init_tilt_std=START_TILT_STD)
         force_std = profile.force
         if contact == "torque":
@@ -268,20 +237,30 @@ class ControllerState:
             return
         self._calibration = GyroCalibration.from_samples(still_gyro, period, self.gyro_bias_walk)
 
-    def observe(self, frame: SensorFrame, planned: np.ndarray) -> StateView:
-        """The tick's view from ``frame`` (with the plan's contact flags ``planned`` (2,))."""
+    def observe(self, frame: SensorFrame, planned: np.ndarray, age: int = 0) -> StateView:
+        """The tick's view from ``frame``, ``age`` ticks old (with the plan's contact flags ``planned`` (2,));
+        a frame of the last one's ``t`` is not measured again (module docstring, "Latency")."""
+        if not self.ticks or frame.t != self._last_t:
+            self.measure(frame, planned)
+        return self._view(*self._acted, age)
+
+    def measure(self, frame: SensorFrame, planned: np.ndarray) -> None:
+        """Take ``frame``'s readings (the estimator's step; with the plan's contact flags ``planned`` (2,)):
+        the state the next view acts on. Every frame, also one that a newer frame overtook before the tick."""
         first, self.ticks = self.ticks == 0, self.ticks + 1
         if self.oracle and frame.oracle is None:
             raise InputError("SensorFrame.oracle", None, "the world's state: this controller acts on the oracle")
+        if self.estimator is None or first:
+            self._last_t = frame.t
         if self.estimator is None:
-            return self._view(*self._oracle(frame))
+            self._acted = self._oracle(frame)
+            return
         if first:  # at rest, both feet down: the start state from the encoders on a level floor
             self.start = sensed_start(self.robot, self.qpos0, frame.q)
             self.estimator.reset(self.start, np.zeros(self.robot.model.nv), (True, True), self._calibration)
             q_est, v_est = self.start, np.zeros(self.robot.model.nv)
             touch_est, slip_est, com, com_vel, cost = np.ones(2, bool), np.zeros(2, bool), None, None, 0.0
-            fused, self._last_t = touch_est, frame.t
-            landing = np.zeros(2, bool)
+            fused, landing = touch_est, np.zeros(2, bool)
         else:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
             self._bridge(frame, imu, planned)
@@ -294,15 +273,13 @@ class ControllerState:
             fused, landing = s.contact, self.estimator.landing
         self._measured = (q_est, v_est)
         if self.oracle:
-            q, v, touching, slip = self._oracle(frame)
+            self._acted = self._oracle(frame)
         else:
-            q, v, touching, slip = q_est, v_est, touch_est | landing, slip_est
-        view = self._view(q, v, touching, slip)
-        c = self.cdata
-        if com is None or com_vel is None:  # the first tick: the start state, which the controller's data holds
+            self._acted = (q_est, v_est, touch_est | landing, slip_est)
+        if com is None or com_vel is None:  # the first tick: the start state's, as the controller's data holds it
+            c = self._view(q_est, v_est, touch_est, slip_est, 0).data
             com, com_vel = c.subtree_com[0].copy(), c.subtree_linvel[0].copy()
         self.record = EstimateRecord(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
-        return view
 
     def _bridge(self, frame: SensorFrame, imu: ImuReading, planned: np.ndarray) -> None:
         """Step the estimator through the ticks before ``frame`` that no frame came for (module docstring,
@@ -347,8 +324,8 @@ class ControllerState:
         touching = np.asarray(o.contact, bool)
         return o.qpos.copy(), o.qvel.copy(), touching, self.oracle_slip.update(o.sole_velocity, touching)
 
-    def _view(self, q: np.ndarray, v: np.ndarray, touching: np.ndarray, slip: np.ndarray) -> StateView:
-        q, v = self.predictor.predict(q, v)
+    def _view(self, q: np.ndarray, v: np.ndarray, touching: np.ndarray, slip: np.ndarray, age: int) -> StateView:
+        q, v = self.predictor.predict(q, v, age)
         c = self.cdata
         c.qpos[:], c.qvel[:] = q, v
         mujoco.mj_forward(self.cmodel, c)

@@ -25,14 +25,15 @@ bytes as cyclonedds's (de)serialization, in a tenth of its time).
 
 Pacing: real time by default (tick ``k`` due at ``t0 + k period`` on the wall clock, the machine's and the
 controller's clock the wall clock; a tick that ends over a period after it was due is a missed deadline,
-and the ticks it overran are skipped); with ``lockstep`` one tick per new state (``LowState_.tick``
-changed), the clocks the robot's (the state's tick less the first state's, in periods: a state the link
-lost is a gap the controller's estimator bridges, :mod:`gaitshift.control.state`), and a state is stale
-when none came within ``stale`` s of the last command. A tick's duration runs from the wake-up (real time:
-the take and deserialization of the states included) or from the new state's arrival (lockstep) to the
-command written. The run ends ``final_damping`` s of the machine's clock after it entered ``stop`` or
-``fault``. A state's age is the time since a state of a new tick was last taken (the robot's clock is not
-compared with the brain's).
+and the ticks it overran are skipped); with ``lockstep`` one tick per robot tick (the robot's
+``rt/gaitshift/clock``, :mod:`gaitshift.dds.lockstep`: a tick that brought no new state ticks on the one
+held, as in real time), the clocks the robot's (its tick less the first state's, in periods), and the
+robot is silent (a stale state) when no clock came within ``stale`` s of the last command. A tick's duration
+runs from the wake-up (real time: the take and deserialization of the states included) or from the robot
+tick's arrival (lockstep) to the command written. The run ends ``final_damping`` s of the machine's clock
+after it entered ``stop`` or ``fault``. A state's age is the time since a state of a new tick was last
+taken: on the wall clock in real time (the robot's clock is not compared with the brain's), in robot ticks
+in lockstep.
 Exit codes (:attr:`BrainSummary.exit_code`): 0 the plan ended (or SIGINT/SIGTERM) and the robot damps; 1 a
 fault, no state within ``state_timeout`` s, or a real robot that is not damping at start.
 """
@@ -48,63 +49,23 @@ import numpy as np
 
 from gaitshift.control.controller import Controller
 from gaitshift.control.frames import MotorCommand, SensorFrame
+from gaitshift.control.state import MAX_BRIDGE
 from gaitshift.dds.brain_options import BrainOptions, BrainSummary
+from gaitshift.dds.brain_setup import build_controller, passive_at_start, safety_of
 from gaitshift.dds.brain_web import BrainFeed
 from gaitshift.dds.cdr import StateBytes
 from gaitshift.dds.cmdvel import CommandInput, CommandSource, TopicSource, live_limits
 from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes
 from gaitshift.dds.diagnostics import Diagnostics
-from gaitshift.dds.g1 import check_motor_order
-from gaitshift.dds.gravity import standing_torques
+from gaitshift.dds.lockstep import LockstepClock
 from gaitshift.dds.messages import LowState_
-from gaitshift.dds.safety import Limits, Safety, SafetySettings, standup_gains
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.still_gyro import LegRate
 from gaitshift.dds.ticklog import TickLog
 from gaitshift.dds.transport import Endpoint, open_endpoint
 from gaitshift.errors import GaitshiftError, InputError
 
-__all__ = ["BrainOptions", "BrainSummary", "build_controller", "passive_at_start", "run_brain"]
-
-#: |tau_est| N m under which a motor counts as passive (zero torque) at a real robot's start
-PASSIVE_TAU = 1.0
-
-
-def build_controller(opts: BrainOptions) -> Controller:
-    """The controller of ``opts.scenario`` on ``opts.robot`` with ``contact=opts.contact``,
-    ``replan=opts.replan``, ``latency=opts.latency`` and ``known_floor=opts.known_floor``; its
-    motors must be the hg slots in order (the G1)."""
-    ctrl = Controller.from_scenario(
-        opts.scenario,
-        opts.robot,
-        known_floor=opts.known_floor,
-        contact=opts.contact,
-        replan=opts.replan,
-        latency=opts.latency,
-    )
-    check_motor_order(ctrl.motor_names)
-    return ctrl
-
-
-def passive_at_start(state: Any, n: int) -> bool:
-    """A real robot may be taken over: every motor of slots 0..n-1 reports mode 0 (disabled), or every one
-    a torque under :data:`PASSIVE_TAU` N m (zero torque / damping)."""
-    motors = state.motor_state[:n]
-    return all(m.mode == 0 for m in motors) or all(abs(m.tau_est) < PASSIVE_TAU for m in motors)
-
-
-def _safety(ctrl: Controller, opts: BrainOptions) -> Safety:
-    """The safety machine of ``ctrl``'s robot: limits from its model and YAML, the start pose's joints."""
-    cfg, model = ctrl.robot.robot, ctrl.robot.model
-    speed, _ = cfg.speed_limits()
-    limits = Limits.of_robot(cfg.joint_names, cfg.joint_range, speed, cfg.torque_limit, ctrl.motor_names)
-    kp, kd = standup_gains(limits.tau_max)
-    adr = [int(model.joint(name).qposadr[0]) for name in ctrl.motor_names]
-    tau = standing_torques(ctrl.robot, ctrl.initial_qpos())
-    settings = SafetySettings(
-        kp, kd, tau, opts.damping_time, opts.standup_time, opts.damping_kd, opts.stale, opts.tilt, hold_time=opts.hold
-    )
-    return Safety(limits, settings, ctrl.initial_qpos()[adr])
+__all__ = ["BrainOptions", "BrainSummary", "run_brain"]
 
 
 class _Brain:
@@ -131,16 +92,20 @@ class _Brain:
         self.calibrated = -1  # the readings fed to the calibration (-1: not yet done)
         self.n = len(ctrl.motor_names)
         self.period = ctrl.period
-        self.safety = _safety(ctrl, opts)
+        self.safety = safety_of(ctrl, opts)
         self.log = TickLog()
         self.state: Any = None  # the newest LowState_ (StateBytes) with a good CRC
+        self.overtaken: list[Any] = []  # states of new ticks a newer one overtook before a tick, oldest first
+        self.measured_only = 0  # of which the controller measured (locomotion)
         self.arrival = -math.inf  # perf_counter s when a state of a new tick last arrived
+        self.taken = 0.0  # machine time s when the readings of the state held were taken, as far as known
         self.handled = -1  # LowState_.tick of the last state ticked on
         self.tick0 = 0  # LowState_.tick of the first state
         self.written = time.perf_counter()  # when the last command was written
         self.received = self.dropped = self.loco_ticks = 0
         self.last: MotorCommand = self.safety.damping
         self.silent = False  # lockstep: the robot stopped answering (a stale state)
+        self.clock = LockstepClock(endpoint) if opts.lockstep else None  # lockstep: the robot's ticks
 
     def take(self) -> bool:
         """Take every state received; keep the newest with a good CRC (a message of another encapsulation is
@@ -155,6 +120,8 @@ class _Brain:
             if msg is None or msg.crc != msg.expected_crc():  # the other checks wait for the one ticked on
                 self.dropped += 1
                 continue
+            if self.state is not None and self.state.tick not in (self.handled, msg.tick):
+                self.overtaken.append(self.state)
             self.state = msg
             if msg.tick != self.handled:
                 new, self.arrival = True, time.perf_counter()
@@ -170,23 +137,28 @@ class _Brain:
         self.tick0 = 0 if self.state is None else self.state.tick
         return self.state is not None
 
-    def wait_lockstep(self) -> float:
-        """Lockstep: wait for a state of a new tick; the age, s: 0 when one came, else the time since the
-        last command (>= ``stale``). A repeat of the state ticked on gets nothing: one command per state
-        (the robot steps once per command received; the writer is reliable, so a command is not lost but
-        with the robot, and then the state goes stale)."""
+    def wait_lockstep(self) -> tuple[float, int | None]:
+        """Lockstep (:mod:`gaitshift.dds.lockstep`): wait for the robot's next tick and the state it names;
+        that tick and the held state's age, s. Without a clock within ``stale`` s of the last command (the
+        robot silent): None and the time since that command. One command per robot tick: the robot steps
+        once per command (the writer is reliable, so a command is not lost but with the robot, and then the
+        state goes stale)."""
+        assert self.clock is not None
         limit = self.opts.stale
         while True:
-            if self.take() or self.state.tick != self.handled:  # the state held may be new (the first one)
-                return 0.0
+            self.take()
+            tick = self.clock.due(None if self.state is None else self.state.tick)
+            if tick is not None:
+                self.taken = (self.state.tick - self.tick0) % 2**32 * self.period
+                return self.clock.age(self.period), tick
             age = time.perf_counter() - self.written
             if self.silent and self.safety.ended:  # no robot to wait for: damping written every period
                 self.endpoint.wait(self.period)
                 self.take()
-                return age
+                return age, None
             if age > limit:
                 self.silent = True
-                return age
+                return age, None
             self.endpoint.wait(limit - age)
 
     def frame(self, t: float) -> tuple[SensorFrame | None, str]:
@@ -211,14 +183,16 @@ class _Brain:
             cmd: MotorCommand | None = self.safety.damping
         else:
             cmd = self.safety.step(t, frame, age)
-            if self.safety.phase == "hold" and self.legs is not None and self.opts.calibrate:
-                self.hold.append((t, frame.imu_gyro, frame.q))
+            fresh = not self.hold or self.hold[-1][0] != self.taken  # a held state is one reading
+            if self.safety.phase == "hold" and self.legs is not None and self.opts.calibrate and fresh:
+                self.hold.append((self.taken, frame.imu_gyro, frame.q))
         kind = 0
         if cmd is None and frame is not None:
             cmd, kind = self.locomotion(t, frame)
-        self.handled = self.state.tick
+        new, self.handled = self.state.tick != self.handled, self.state.tick
+        self.overtaken = []  # measured by the controller's tick, or before it ticks
         self.write(cmd if cmd is not None else self.safety.damping)
-        if self.diag is not None:
+        if self.diag is not None and new:  # one estimate per state acted on
             record = self.ctrl.record if kind else None
             self.diag.publish(self.handled, t, self.safety.phase, None if record is None else record.estimate)
         if self.page is not None:
@@ -244,6 +218,23 @@ class _Brain:
             return False
         return True
 
+    def measure(self, t: float, taken: float) -> bool:
+        """The states a newer one overtook (the held one's readings at ``taken`` s of the controller's clock),
+        measured by the controller, oldest first; False, and a fault at ``t`` s, on one out of range."""
+        newest, overtaken, self.overtaken = self.state.tick, self.overtaken, []
+        for msg in overtaken:
+            back = (newest - msg.tick) % 2**32 * self.period
+            if taken - back < 0.0:  # before the controller's first tick
+                continue
+            try:
+                frame = frame_from_lowstate(msg, taken - back, self.n)
+            except InputError as e:
+                self.safety.fault(t, f"state out of range: {e}")
+                return False
+            self.ctrl.measure(frame)
+            self.measured_only += 1
+        return True
+
     def locomotion(self, t: float, frame: SensorFrame) -> tuple[MotorCommand, int]:
         """The controller's tick at its own clock (zero when the stand-up ended), guarded; the plan's end
         stops the machine (damping from this tick)."""
@@ -254,10 +245,14 @@ class _Brain:
         if self.calibrated < 0 and not self.calibrate(t):
             return self.safety.damping, 0
         before = self.ctrl.trajectory
+        taken = max(self.taken - self.safety.locomotion_start, 0.0)  # the readings' time on the controller's clock
+        age = min(max(round((tl - taken) / self.period), 0), MAX_BRIDGE)
         try:
+            if not self.measure(t, taken):
+                return self.safety.damping, 0
             if self.commands is not None:
                 self.commands.apply(self.ctrl)
-            raw = self.ctrl.tick(replace(frame, t=tl))
+            raw = self.ctrl.tick(replace(frame, t=taken), age)
         except GaitshiftError as e:
             self.safety.fault(t, f"controller: {e}")
             return self.safety.damping, 0
@@ -272,16 +267,17 @@ def _loop(brain: _Brain, signals: StopSignals) -> None:
     k, t = 0, 0.0
     while True:
         if opts.lockstep:
-            age = brain.wait_lockstep()
-            # the robot's clock; without a new state (the robot silent) the machine's goes on by periods
-            t = (brain.state.tick - brain.tick0) % 2**32 * period if age == 0.0 else t + period
+            age, tick = brain.wait_lockstep()
+            # the robot's clock; without it (the robot silent) the machine's goes on by periods
+            t = (tick - brain.tick0) % 2**32 * period if tick is not None else t + period
             due = start = time.perf_counter()
         else:
             due = wall0 + k * period
             time.sleep(max(due - time.perf_counter(), 0.0))
             start = time.perf_counter()
-            brain.take()
             t = start - wall0
+            if brain.take():
+                brain.taken = t
             age = time.perf_counter() - brain.arrival
         if safety.ended and t - safety.since >= opts.final_damping - 0.5 * period:
             return
@@ -319,6 +315,7 @@ def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: flo
         locomotion_max_ms=s.other_max,
         states_received=brain.received,
         states_dropped=brain.dropped,
+        states_measured_only=brain.measured_only,
         planned_distance=float(np.linalg.norm(com[-1, :2] - com[0, :2])),
         wall_time=wall,
         lockstep=brain.opts.lockstep,

@@ -22,8 +22,9 @@ class BrainOptions:
     Attributes:
         scenario: built-in name or YAML. robot: robot name or YAML (None: the scenario's).
         domain: DDS domain id (0: a real robot, only with ``real_robot``). iface: network interface.
-        lockstep: one tick per new state. state_timeout: s to wait for the first state.
-        real_robot: allow domain 0; refuse unless the robot is passive at start (:func:`passive_at_start`).
+        lockstep: one tick per robot tick (:mod:`gaitshift.dds.lockstep`). state_timeout: s to wait for the
+        first state. real_robot: allow domain 0; refuse unless the robot is passive at start
+        (:func:`~gaitshift.dds.brain_setup.passive_at_start`).
         stale: s. damping_time, standup_time: s. damping_kd: N m s/rad. tilt: rad.
         final_damping: s of damping written after ``stop`` or ``fault`` before exiting.
         contact: the controller's contact detection ("torque": no foot force needed).
@@ -89,7 +90,9 @@ class BrainSummary:
         the controller ticked. tick_p50_ms, tick_p99_ms, tick_p999_ms, tick_max_ms: tick durations.
         missed_deadlines: ticks over their deadline. replans: ticks with a re-plan; replan_p50_ms,
         replan_max_ms; locomotion_p50_ms, locomotion_max_ms: the other controller ticks.
-        states_received: LowState_ taken; states_dropped: of which dropped for their CRC.
+        states_received: LowState_ taken; states_dropped: of which dropped for their CRC;
+        states_measured_only: of which the controller measured but did not act on (a newer one came with
+        them, :meth:`gaitshift.control.controller.Controller.measure`).
         planned_distance: m, the plan's horizontal CoM travel. wall_time: s. lockstep: the pacing.
         plan_lag_p50, plan_lag_max: ticks a background re-plan's plan came after the tick it was due at
         (NaN inline: none).
@@ -117,6 +120,7 @@ class BrainSummary:
     locomotion_max_ms: float = math.nan
     states_received: int = 0
     states_dropped: int = 0
+    states_measured_only: int = 0
     planned_distance: float = math.nan
     wall_time: float = 0.0
     lockstep: bool = False

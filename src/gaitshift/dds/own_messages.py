@@ -5,8 +5,11 @@ another program writes to steer the brain, and the brain's state estimate that t
   --cmd-topic``), written by ``gaitshift dds cmd`` or any program with this IDL.
 * ``rt/gaitshift/estimate`` (:class:`Estimate_`): written by the brain, read by the robot process, which
   alone holds the truth and scores the estimate in its summary. Nothing flows the other way.
+* ``rt/gaitshift/clock`` (:class:`Clock_`): lockstep only, written by the robot process at each of its
+  ticks, read by the brain, which ticks once per robot tick as it would in real time
+  (:mod:`gaitshift.dds.lockstep`). It carries tick counts, nothing of the truth.
 
-Both are ``@final`` structs with sequential member ids (as Unitree's), type names in the module
+All are ``@final`` structs with sequential member ids (as Unitree's), type names in the module
 ``gaitshift.msg``. Units: m, m/s, rad, rad/s, s; quaternions w, x, y, z.
 """
 
@@ -17,10 +20,11 @@ import cyclonedds.idl.annotations as annotate
 from cyclonedds import idl
 from cyclonedds.idl import types
 
-__all__ = ["CMD_VEL_TOPIC", "ESTIMATE_TOPIC", "Estimate_", "VelocityCommand_"]
+__all__ = ["CLOCK_TOPIC", "CMD_VEL_TOPIC", "ESTIMATE_TOPIC", "Clock_", "Estimate_", "VelocityCommand_"]
 
 CMD_VEL_TOPIC = "rt/gaitshift/cmd_vel"
 ESTIMATE_TOPIC = "rt/gaitshift/estimate"
+CLOCK_TOPIC = "rt/gaitshift/clock"
 
 
 @dataclass
@@ -57,3 +61,15 @@ class Estimate_(idl.IdlStruct, typename="gaitshift.msg.Estimate_"):
     base_quat: types.array[types.float64, 4] = field(default_factory=lambda: [1.0, 0.0, 0.0, 0.0])
     base_vel: types.array[types.float64, 3] = field(default_factory=lambda: [0.0, 0.0, 0.0])
     contact: types.array[types.uint8, 2] = field(default_factory=lambda: [0, 0])
+
+
+@dataclass
+@annotate.final
+@annotate.autoid("sequential")
+class Clock_(idl.IdlStruct, typename="gaitshift.msg.Clock_"):
+    """Lockstep: the robot's tick ``tick`` has begun and waits for one command; ``state_tick`` is the
+    ``LowState_.tick`` of the newest intact state the robot has written up to this tick (a state the link
+    delays is written at a later tick than its own; one it drops or corrupts is not counted)."""
+
+    tick: types.uint32 = 0
+    state_tick: types.uint32 = 0

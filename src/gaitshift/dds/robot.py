@@ -17,15 +17,15 @@ truth stays in this process, nothing of it is written on DDS.
 
 The command applied is the newest valid one; when none has come for ``damping_after`` s (or none yet) the
 motors damp: ``kp = 0``, ``kd = damping_kd``, ``tau = 0``. Pacing: real time by default (tick k at
-``t0 + k dt`` on the wall clock; ticks that start late are counted); with ``lockstep`` the world steps only
-when a valid command has arrived after the newest intact state released at this tick was written (the state
-is written again every ``resend`` s of wall time meanwhile), so the controller may take its time; a tick
-that releases no intact state (one in flight, dropped or corrupted) steps on the command held, as a real
-robot would. A tick that releases several intact states (a delay that shrank: the link keeps their order)
-writes only the newest in lockstep, as a brain ticking in real time takes only the newest of those that
-came since its last tick; written all, which of them the brain answered first would depend on the
-machine's scheduling, and a run would not repeat (``link_superseded`` counts them). The run ends after ``duration``
-s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary either way).
+``t0 + k dt`` on the wall clock; ticks that start late are counted); with ``lockstep``, once a first intact
+state is written, every tick writes the robot's clock (``rt/gaitshift/clock``: the tick and the newest
+intact state written so far, :mod:`gaitshift.dds.lockstep`) and the world steps only when a valid command
+has arrived after it (the state and the clock written again every ``resend`` s of wall time meanwhile), so
+the controller may take its time, and it ticks once per robot tick, as in real time: on a tick that
+releases no intact state (one in flight, dropped or corrupted) it ticks on the state it holds; on a tick
+that releases several (a delay that shrank: the link keeps their order) it measures the older ones and
+acts on the newest, which the clock names, so that a run repeats whatever the machine's scheduling. The run
+ends after ``duration`` s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary either way).
 """
 
 import copy
@@ -40,10 +40,10 @@ from gaitshift.control.frames import MotorCommand
 from gaitshift.dds.convert import command_from_lowcmd, lowstate_from_frame
 from gaitshift.dds.g1 import check_motor_order
 from gaitshift.dds.link import Link, LinkFaults
-from gaitshift.dds.own_messages import ESTIMATE_TOPIC, Estimate_
+from gaitshift.dds.own_messages import CLOCK_TOPIC, ESTIMATE_TOPIC, Clock_, Estimate_
 from gaitshift.dds.scoring import EstimateScore, ScoreSummary
 from gaitshift.dds.signals import StopSignals
-from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint, topic_reader
+from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint, topic_reader, topic_writer
 from gaitshift.errors import InputError, number_in
 from gaitshift.models.terrain import FLAT, Terrain
 from gaitshift.robots.model import standing_qpos
@@ -65,7 +65,7 @@ class RobotOptions:
         domain: DDS domain id (1: Unitree's simulator default; 0 is the real robot's network).
         iface: network interface (``lo``: nothing leaves the machine).
         duration: simulated seconds to run, or None: until SIGINT/SIGTERM.
-        lockstep: step only when a command for the last state has arrived (else real time).
+        lockstep: step only when a command for this tick's clock has arrived (else real time).
         damping_after: s without a valid command before the motors damp.
         damping_kd: N m s/rad, the damping gain.
         mode_machine: the hardware variant reported in every LowState_.
@@ -118,8 +118,6 @@ class RobotSummary:
         damping_ticks: ticks in damping. late_ticks: real time only: ticks that started over a period late.
         link_dropped, link_corrupted: states the link dropped, wrote with a wrong CRC;
         link_delay_ticks_mean, link_delay_ticks_max: ticks from a state's tick to its writing (NaN: none).
-        link_superseded: lockstep only: intact states the link released at a tick that released a newer
-        intact one, not written (module docstring).
         stopped_by: "duration" or the signal's name.
         estimates_received ... est_position_drift: the brain's estimate scored against the truth
         (:class:`~gaitshift.dds.scoring.ScoreSummary`; NaN when none was scored).
@@ -143,7 +141,6 @@ class RobotSummary:
     link_corrupted: int = 0
     link_delay_ticks_mean: float = math.nan
     link_delay_ticks_max: int = 0
-    link_superseded: int = 0
     stopped_by: str = ""
     estimates_received: int = 0
     estimates_scored: int = 0
@@ -178,9 +175,10 @@ class _Robot:
         self.summary = RobotSummary()
         self.command: MotorCommand | None = None
         self.command_time = -math.inf  # s of simulated time when the command arrived
-        self.fresh = False  # a valid command arrived since the last intact state was written
-        self.awaiting = False  # this tick released an intact state: lockstep waits for its command
+        self.fresh = False  # lockstep: a valid command arrived since the last clock was written
         self.state: Any = None  # the last intact LowState_ written
+        self.clock = topic_writer(endpoint, CLOCK_TOPIC, Clock_) if opts.lockstep else None
+        self.tick = Clock_()  # lockstep: the clock of this tick
         self.link = Link(opts.faults, self.dt, corrupted)
         zero = np.zeros(self.n)
         self.damping = MotorCommand(q=zero, dq=zero, kp=zero, kd=np.full(self.n, opts.damping_kd), tau=zero)
@@ -196,21 +194,25 @@ class _Robot:
         assert contacts is not None
         self.score.truth(k, d.qpos, d.qvel, contacts.touching)
         self.link.take(k, lowstate_from_frame(self.world.sense(k), k, self.opts.mode_machine))
-        self.awaiting = False
-        released = self.link.release(k)
-        newest = max((i for i, (_, intact) in enumerate(released) if intact), default=-1)
-        for i, (state, intact) in enumerate(released):
-            if intact and i < newest and self.opts.lockstep:  # superseded (module docstring)
-                self.summary.link_superseded += 1
-                continue
+        for state, intact in self.link.release(k):
             self.endpoint.writer.write(state)
             self.summary.states_published += 1
             if intact:
-                self.state, self.awaiting, self.fresh = state, True, False
+                self.state = state
+
+    def write_clock(self, k: int) -> None:
+        """Lockstep: write the clock of tick ``k`` (:mod:`gaitshift.dds.lockstep`); its command is awaited."""
+        assert self.clock is not None
+        self.tick = Clock_(tick=k % 2**32, state_tick=self.state.tick)
+        self.clock.write(self.tick)
+        self.fresh = False
 
     def resend(self) -> None:
+        """Lockstep: write the newest intact state and this tick's clock again (no command came)."""
         self.endpoint.writer.write(self.state)
         self.summary.states_published += 1
+        assert self.clock is not None
+        self.clock.write(self.tick)
 
     def receive(self, t: float) -> None:
         """Take every LowCmd_ received: count it, keep the newest valid one (arrival at sim time ``t``)."""
@@ -267,8 +269,8 @@ def corrupted(state: Any) -> Any:
 
 
 def _wait_for_command(robot: _Robot, k: int, stop: StopSignals) -> bool:
-    """Lockstep: block until a valid command arrives for the state of tick ``k`` (the state written again
-    every ``resend`` s); False when stopped by a signal first."""
+    """Lockstep: block until a valid command arrives for the clock of tick ``k`` (the state and the clock
+    written again every ``resend`` s); False when stopped by a signal first."""
     while not stop.why:
         robot.receive(k * robot.dt)
         if robot.fresh:
@@ -304,8 +306,10 @@ def run_robot(opts: RobotOptions, endpoint: Endpoint | None = None) -> RobotSumm
             if not opts.lockstep:
                 wall0 = _pace(wall0, k, robot.dt, robot.summary)
             robot.publish(k)
-            if opts.lockstep and robot.awaiting and not _wait_for_command(robot, k, stop):
-                break
+            if opts.lockstep and robot.state is not None:
+                robot.write_clock(k)
+                if not _wait_for_command(robot, k, stop):
+                    break
             robot.receive(k * robot.dt)
             robot.act(k)
             k += 1
