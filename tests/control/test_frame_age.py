@@ -81,3 +81,19 @@ def test_a_bad_overtaken_frame_is_one_input_error_naming_its_field(ctrl):
     frame = _rest_frame(ctrl, 0.0)
     with pytest.raises(InputError, match=r"SensorFrame\.q"):
         ctrl.measure(dataclasses.replace(frame, q=np.full(ctrl.robot.model.nu, np.nan)))
+
+
+def test_a_live_plan_follows_a_host_whose_clock_is_off_the_periods_grid():
+    """A host on a wall clock (ticks 0.3 periods early or late): the tick's time is taken to the nearest
+    period, so the live generator follows it as it follows exact times (it re-plans only at instants on its
+    grid: before, such a host's live plan never moved on)."""
+    scenario = {"planner": "locomotion", "robot": "g1", "gait": "walk", "commands": [{"t": 0.0, "vx": 0.2}]}
+    exact, jittered = (Controller.from_scenario({**scenario, "stop_at": 2.0}, settle=0.0) for _ in range(2))
+    dt = exact.period
+    for k in range(300):  # 0.6 s: past the first step's planning instant
+        exact.tick(_rest_frame(exact, k * dt))
+        jittered.tick(_rest_frame(jittered, k * dt + (0.3 if k % 2 else -0.3) * dt * (k > 0)))
+    assert exact.driver.gen.step_count >= 1
+    assert jittered.driver.gen.tick_index == exact.driver.gen.tick_index
+    assert jittered.driver.gen.step_count == exact.driver.gen.step_count
+    np.testing.assert_array_equal(jittered.trajectory.com_pos, exact.trajectory.com_pos)

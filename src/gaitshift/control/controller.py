@@ -266,11 +266,12 @@ class Controller:
         the frame's readings (taken at ``frame.t``) and this tick, for a host whose link delays them; the
         controller acts at ``frame.t + age`` periods, on the state predicted across the commands sent since
         (:mod:`gaitshift.control.prediction`). A frame of the last one's ``t`` (no new readings) is not
-        measured again."""
+        measured again. The tick's time is taken to the nearest period: a live plan's samples, and the
+        instants it re-plans at, lie on that grid (a host on a wall clock need not round)."""
         self._check(frame)
         if isinstance(age, bool) or not isinstance(age, int | np.integer) or not 0 <= age <= MAX_BRIDGE:
             raise InputError("age", age, f"an integer number of ticks in [0, {MAX_BRIDGE}]")
-        tp = self.plan_time(frame.t + int(age) * self.dt)
+        tp = self.plan_time(round(frame.t / self.dt + int(age)) * self.dt)  # on the period's grid
         planned = self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)]  # the plan's flags
         view = self.state.observe(frame, planned, int(age))
         if frame.depth_points is not None and self.perceiver is not None:

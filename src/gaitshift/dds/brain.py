@@ -24,10 +24,10 @@ The states are read and the commands written as their CDR bytes (:mod:`gaitshift
 bytes as cyclonedds's (de)serialization, in a tenth of its time).
 
 Pacing: real time by default (tick ``k`` due at ``t0 + k period`` on the wall clock, the machine's and the
-controller's clock the wall clock; a tick that ends over a period after it was due is a missed deadline,
-and the ticks it overran are skipped); with ``lockstep`` one tick per robot tick (the robot's
-``rt/gaitshift/clock``, :mod:`gaitshift.dds.lockstep`: a tick that brought no new state ticks on the one
-held, as in real time), the clocks the robot's (its tick less the first state's, in periods), and the
+controller's clock ``k period``, the wall clock on the period's grid; a tick that ends over a period after it
+was due is a missed deadline, and the ticks it overran are skipped); with ``lockstep`` one tick per robot
+tick (the robot's ``rt/gaitshift/clock``, :mod:`gaitshift.dds.lockstep`: a tick that brought no new state
+ticks on the one held, as in real time), the clocks the robot's (its tick less the first state's, in periods), and the
 robot is silent (a stale state) when no clock came within ``stale`` s of the last command. A tick's duration
 runs from the wake-up (real time: the take and deserialization of the states included) or from the robot
 tick's arrival (lockstep) to the command written. The run ends ``final_damping`` s of the machine's clock
@@ -275,7 +275,7 @@ def _loop(brain: _Brain, signals: StopSignals) -> None:
             due = wall0 + k * period
             time.sleep(max(due - time.perf_counter(), 0.0))
             start = time.perf_counter()
-            t = start - wall0
+            t = k * period  # the tick's due time: the controller's samples are on the period's grid
             if brain.take():
                 brain.taken = t
             age = time.perf_counter() - brain.arrival
