@@ -22,6 +22,7 @@ import gaitshift
 from gaitshift.control.controller import Controller
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.errors import InputError
+from standing import rest_frame
 
 CONTROL = Path(gaitshift.__file__).parent / "control"
 
@@ -33,19 +34,7 @@ def ctrl():
 
 def _rest_frame(c: Controller) -> SensorFrame:
     """The frame a robot at rest in the start pose reports (exact sensors)."""
-    m = c.robot.model
-    d = mujoco.MjData(m)
-    d.qpos[:] = c.initial_qpos()
-    mujoco.mj_forward(m, d)
-    idx = m.jnt_qposadr[m.actuator_trnid[:, 0]]
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, d.site_xmat[m.site(c.imu_site).id])
-    up = d.site_xmat[m.site(c.imu_site).id].reshape(3, 3).T @ np.array([0.0, 0.0, 9.81])
-    n = m.nu
-    return SensorFrame.checked(
-        n, t=0.0, imu_quat=quat, imu_gyro=np.zeros(3), imu_acc=up, q=d.qpos[idx], dq=np.zeros(n),
-        tau_est=np.zeros(n), foot_force=np.full(2, c.robot.mass * 9.81 / 2),
-    )  # fmt: skip
+    return rest_frame(c)
 
 
 def test_the_host_interface_comes_from_the_model(ctrl):

@@ -6,29 +6,18 @@ from __future__ import annotations
 
 import dataclasses
 
-import mujoco
 import numpy as np
 import pytest
 
 from gaitshift.control.controller import Controller
 from gaitshift.control.frames import SensorFrame
 from gaitshift.errors import InputError
+from standing import rest_frame
 
 
 def _rest_frame(c: Controller, t: float) -> SensorFrame:
     """The frame a robot at rest in the start pose reports at ``t`` s (exact sensors, no foot force)."""
-    m = c.robot.model
-    d = mujoco.MjData(m)
-    d.qpos[:] = c.initial_qpos()
-    mujoco.mj_forward(m, d)
-    idx = m.jnt_qposadr[m.actuator_trnid[:, 0]]
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, d.site_xmat[m.site(c.imu_site).id])
-    up = d.site_xmat[m.site(c.imu_site).id].reshape(3, 3).T @ np.array([0.0, 0.0, 9.81])
-    n = m.nu
-    return SensorFrame.checked(
-        n, t=t, imu_quat=quat, imu_gyro=np.zeros(3), imu_acc=up, q=d.qpos[idx], dq=np.zeros(n), tau_est=np.zeros(n)
-    )
+    return rest_frame(c, t, foot_force=False)
 
 
 @pytest.fixture

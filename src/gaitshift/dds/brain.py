@@ -109,7 +109,8 @@ class _Brain:
 
     def take(self) -> bool:
         """Take every state received; keep the newest with a good CRC (a message of another encapsulation is
-        dropped as well). True when it is of a new tick."""
+        dropped as well), and the ones of new ticks it overtook for :meth:`measure`. True when it is of a new
+        tick."""
         new = False
         for data in self.endpoint.take_bytes():
             self.received += 1
