@@ -135,7 +135,7 @@ def dds_control_cmd(
     diag_every: int = typer.Option(
         1, "--diag-every", help="Write the state estimate on rt/gaitshift/estimate every N ticks (0: never)."
     ),
-    latency: int = typer.Option(0, "--latency", help="Ticks from a state to its command acting: predicted."),
+    latency: int = typer.Option(0, "--latency", help="Ticks from the tick to its command acting: predicted."),
     known_floor: bool = typer.Option(
         False,
         "--known-floor/--unknown-floor",

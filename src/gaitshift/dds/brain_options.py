@@ -34,8 +34,10 @@ class BrainOptions:
         calibrate: feed the hold's gyro readings to ``Controller.calibrate`` (False: the hold only).
         cmd_topic: take live velocity commands from ``rt/gaitshift/cmd_vel`` (:mod:`gaitshift.dds.cmdvel`).
         diag_every: write the state estimate on ``rt/gaitshift/estimate`` every this many ticks (0: never).
-        latency: ticks from a state's taking to its command acting, which the controller predicts across
-            (``ControllerSettings.latency``: the link's delay and the motors' own).
+        latency: ticks from the brain's tick to its command acting, which the controller predicts across
+            beside the state's own age (``ControllerSettings.latency``: the command's way to the motors;
+            in lockstep the robot applies it at the tick it answers, 0; in real time the link's delay, which
+            the brain cannot see, too).
         known_floor: the robot stands on a flat floor, whose height the estimator then takes as a
             measurement when the scenario has no terrain (``ControllerSettings.floor``); False: unknown.
     """
