@@ -272,8 +272,7 @@ class Controller:
         if isinstance(age, bool) or not isinstance(age, int | np.integer) or not 0 <= age <= MAX_BRIDGE:
             raise InputError("age", age, f"an integer number of ticks in [0, {MAX_BRIDGE}]")
         tp = self.plan_time(round(frame.t / self.dt + int(age)) * self.dt)  # on the period's grid
-        planned = self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)]  # the plan's flags
-        view = self.state.observe(frame, planned, int(age))
+        view = self.state.observe(frame, self._planned_contact(tp), int(age))
         if frame.depth_points is not None and self.perceiver is not None:
             self.perceiver.frame(frame.t, frame.depth_points, view.data)
         i = self._plan_index(tp, view)
@@ -287,8 +286,11 @@ class Controller:
         """Readings that a newer frame overtook before a tick (a link that brought two at once): the estimator
         takes them, in the order taken, before the tick on the newest; no command."""
         self._check(frame)
-        tp = self.plan_time(frame.t)
-        self.state.measure(frame, self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)])
+        self.state.measure(frame, self._planned_contact(self.plan_time(frame.t)))
+
+    def _planned_contact(self, tp: float) -> np.ndarray:
+        """The plan's contact flags (2,) bool at plan time ``tp`` s (its last sample's past the end)."""
+        return np.asarray(self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)])
 
     def _check(self, frame: SensorFrame) -> None:
         """:class:`InputError` naming the first per-motor field of ``frame`` of the wrong size or not finite."""

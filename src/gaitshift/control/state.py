@@ -250,8 +250,7 @@ class ControllerState:
         first, self.ticks = self.ticks == 0, self.ticks + 1
         if self.oracle and frame.oracle is None:
             raise InputError("SensorFrame.oracle", None, "the world's state: this controller acts on the oracle")
-        if self.estimator is None or first:
-            self._last_t = frame.t
+        since, self._last_t = self._last_t, frame.t
         if self.estimator is None:
             self._acted = self._oracle(frame)
             return
@@ -263,7 +262,7 @@ class ControllerState:
             fused, landing = touch_est, np.zeros(2, bool)
         else:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
-            self._bridge(frame, imu, planned)
+            self._bridge(frame, imu, planned, since)
             joints = JointReading(q=frame.q, qd=frame.dq)
             forces = FootForces(normal=self._sole_forces(frame))
             t0 = time.perf_counter()
@@ -281,13 +280,12 @@ class ControllerState:
             com, com_vel = c.subtree_com[0].copy(), c.subtree_linvel[0].copy()
         self.record = EstimateRecord(q_est, v_est, fused, touch_est, slip_est, com, com_vel, self.mu, cost)
 
-    def _bridge(self, frame: SensorFrame, imu: ImuReading, planned: np.ndarray) -> None:
-        """Step the estimator through the ticks before ``frame`` that no frame came for (module docstring,
-        "Missing states"); the torque window takes each of their states."""
+    def _bridge(self, frame: SensorFrame, imu: ImuReading, planned: np.ndarray, since: float) -> None:
+        """Step the estimator through the ticks between the last frame (at ``since`` s) and ``frame`` that no
+        frame came for (module docstring, "Missing states"); the torque window takes each of their states."""
         assert self.estimator is not None
         dt = self.robot.dt
-        gap = min(round((frame.t - self._last_t) / dt), MAX_BRIDGE + 1)
-        self._last_t = frame.t
+        gap = min(round((frame.t - since) / dt), MAX_BRIDGE + 1)
         for j in range(gap - 1, 0, -1):
             joints = JointReading(q=frame.q - j * dt * frame.dq, qd=frame.dq)
             s = self.estimator.step(imu, joints, FootForces(normal=self._sole_forces(frame)), planned)

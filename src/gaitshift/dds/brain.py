@@ -57,7 +57,7 @@ from gaitshift.dds.cdr import StateBytes
 from gaitshift.dds.cmdvel import CommandInput, CommandSource, TopicSource, live_limits
 from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes
 from gaitshift.dds.diagnostics import Diagnostics
-from gaitshift.dds.lockstep import LockstepClock
+from gaitshift.dds.lockstep import LockstepClock, ticks_from
 from gaitshift.dds.messages import LowState_
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.still_gyro import LegRate
@@ -150,7 +150,7 @@ class _Brain:
             self.take()
             tick = self.clock.due(None if self.state is None else self.state.tick)
             if tick is not None:
-                self.taken = (self.state.tick - self.tick0) % 2**32 * self.period
+                self.taken = ticks_from(self.tick0, self.state.tick) * self.period
                 return self.clock.age(self.period), tick
             age = time.perf_counter() - self.written
             if self.silent and self.safety.ended:  # no robot to wait for: damping written every period
@@ -224,7 +224,7 @@ class _Brain:
         measured by the controller, oldest first; False, and a fault at ``t`` s, on one out of range."""
         newest, overtaken, self.overtaken = self.state.tick, self.overtaken, []
         for msg in overtaken:
-            back = (newest - msg.tick) % 2**32 * self.period
+            back = ticks_from(msg.tick, newest) * self.period
             if taken - back < 0.0:  # before the controller's first tick
                 continue
             try:
@@ -270,7 +270,7 @@ def _loop(brain: _Brain, signals: StopSignals) -> None:
         if opts.lockstep:
             age, tick = brain.wait_lockstep()
             # the robot's clock; without it (the robot silent) the machine's goes on by periods
-            t = (tick - brain.tick0) % 2**32 * period if tick is not None else t + period
+            t = ticks_from(brain.tick0, tick) * period if tick is not None else t + period
             due = start = time.perf_counter()
         else:
             due = wall0 + k * period

@@ -28,15 +28,20 @@ from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState
 from gaitshift.dds.own_messages import CLOCK_TOPIC, Clock_
 from gaitshift.dds.transport import Endpoint, topic_reader
 
-__all__ = ["LockstepClock", "tick_after"]
+__all__ = ["LockstepClock", "tick_after", "ticks_from"]
 
 #: ticks are uint32 and wrap
 _WRAP = 2**32
 
 
+def ticks_from(b: int, a: int) -> int:
+    """The ticks from tick ``b`` to tick ``a`` (uint32 ticks, wrapping), >= 0."""
+    return (a - b) % _WRAP
+
+
 def tick_after(a: int, b: int) -> bool:
     """Tick ``a`` is ``b`` or later (uint32 ticks, wrapping)."""
-    return (a - b) % _WRAP < _WRAP // 2
+    return ticks_from(b, a) < _WRAP // 2
 
 
 class LockstepClock:
@@ -81,4 +86,4 @@ class LockstepClock:
 
     def age(self, period: float) -> float:
         """The held state's age at the tick last ticked at, s (module docstring)."""
-        return (self.tick - self.since) % _WRAP * period
+        return ticks_from(self.since, self.tick) * period
