@@ -67,3 +67,18 @@ def test_events_carry_the_time_of_the_next_sample():
     gen.clamp(2.0, 1.0)
     ev = gen.events[-1]
     assert (ev.t, ev.kind, ev.requested, ev.applied) == (0.03, "clamp_speed", 2.0, 1.0)
+
+
+def test_the_history_read_again_is_one_block_that_goes_on_in_order():
+    """A closed loop emits one tick at a time and reads the history at every step: it is merged into one
+    block once read, and what comes after joins it in order."""
+    gen = _Toy(period=4)
+    for _ in range(9):
+        gen.tick()
+    np.testing.assert_array_equal(gen.emitted().x, np.arange(9.0))
+    assert len(gen.history()) == 1
+    gen.advance(3)
+    gen.tick()
+    assert len(gen.history()) == 1
+    np.testing.assert_array_equal(gen.emitted().x, np.arange(13.0))
+    np.testing.assert_allclose(gen.emitted().t, np.arange(13) * 0.01)

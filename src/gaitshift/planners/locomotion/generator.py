@@ -372,7 +372,7 @@ class LocomotionGenerator(StreamingGenerator):
     def fork(self) -> LocomotionGenerator:
         """An independent copy to run ahead (a closed loop's look-ahead); the emitted history, which
         never changes, is shared instead of copied."""
-        return copy.deepcopy(self, {id(b): b for b in self._blocks})
+        return copy.deepcopy(self, {id(b): b for b in self.history()})
 
     # ------------------------------------------------------------------ output
     def trajectory(self) -> Trajectory:

@@ -102,4 +102,12 @@ class StreamingGenerator(SampleClock, ABC):
             raise InputError("keep_history", False, "True to collect the trajectory")
         if not self._blocks:
             raise InputError("trajectory", "empty", "at least one emitted sample")
-        return Samples.concat(self._blocks)
+        return self.history()[0]
+
+    def history(self) -> list[Samples]:
+        """The kept blocks, merged into one and kept so (a later merge copies the one block and what came
+        since, instead of gathering every one-tick block of the run again: a closed loop's look-ahead
+        reads the history at every step)."""
+        if len(self._blocks) > 1:
+            self._blocks = [Samples.concat(self._blocks)]
+        return self._blocks
