@@ -3,7 +3,8 @@
 elsewhere): in lockstep it answers every command with the next state (tick counting up, the CRC right),
 steps once per valid command, drops and counts commands with a bad CRC, and a PD hold of the standing
 pose moves the robot as the same hold does in-process without DDS (to float32 rounding); in real time it
-damps without commands and writes its summary on SIGTERM."""
+holds the world still until the first valid command (the gantry), or damps without commands
+(``--no-gantry``), and writes its summary on SIGTERM."""
 
 import json
 import os
@@ -104,7 +105,7 @@ def test_lockstep_answers_each_command_counts_bad_crcs_and_holds_the_robot_up(tm
 def test_real_time_damps_without_commands_and_writes_the_summary_on_sigterm(tmp_path):
     domain = BASE_DOMAIN + 1
     controller = open_endpoint(domain, "lo", "controller")
-    proc, summary_path, log = start_robot(domain, tmp_path, "--damping-kd", "3")
+    proc, summary_path, log = start_robot(domain, tmp_path, "--damping-kd", "3", "--no-gantry")
     seen = 0
     deadline = time.monotonic() + 60.0
     try:
@@ -125,3 +126,36 @@ def test_real_time_damps_without_commands_and_writes_the_summary_on_sigterm(tmp_
     assert s["stopped_by"] == "SIGTERM"
     assert s["crc_rejects"] == s["packets_received"] == 3 and s["commands_applied"] == 0
     assert s["damping_ticks"] == s["ticks"] >= 50 and s["states_published"] >= s["ticks"]
+
+
+def test_the_gantry_holds_the_world_still_until_the_first_valid_command(tmp_path):
+    domain = BASE_DOMAIN + 2
+    controller = open_endpoint(domain, "lo", "controller")
+    proc, summary_path, log = start_robot(domain, tmp_path)
+    held, moved, q0 = [], [], None
+    deadline = time.monotonic() + 60.0
+    try:
+        while len(moved) < 100 and proc.poll() is None and time.monotonic() < deadline:
+            if not controller.wait(0.05):
+                continue
+            for state in controller.take():
+                frame = frame_from_lowstate(state, state.tick * 0.002, N)
+                if len(held) < 50:  # no command yet, then a corrupt one: the world must not move
+                    held.append(frame.q)
+                    bad = lowcmd_from_command(MotorCommand.torque(np.zeros(N)), 0)
+                    bad.crc ^= 1
+                    controller.writer.write(bad)
+                    continue
+                q0 = frame.q if q0 is None else q0
+                moved.append(frame.q)
+                controller.writer.write(lowcmd_from_command(MotorCommand.torque(np.zeros(N)), state.mode_machine))
+        proc.send_signal(signal.SIGTERM)
+    finally:
+        finish(proc, [log], timeout=60.0)
+    assert proc.returncode == 0, (tmp_path / "robot.log").read_text()
+    assert len(held) == 50 and len(moved) == 100
+    assert np.ptp(np.array(held), axis=0).max() == 0.0  # held: the same joint angles, tick after tick
+    assert np.ptp(np.array(moved), axis=0).max() > 1e-3  # zero torque after it: the legs fold
+    s = json.loads(summary_path.read_text())
+    assert s["held_ticks"] >= 50 and s["commands_applied"] >= 50 and s["damping_ticks"] == 0
+    assert s["held_ticks"] + s["commands_applied"] == s["ticks"]

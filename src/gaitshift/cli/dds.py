@@ -45,6 +45,9 @@ def dds_robot_cmd(
     duration: float | None = typer.Option(None, "--duration", help="Simulated seconds to run (default: until ^C)."),
     summary: Path | None = typer.Option(None, "--summary", help="JSON summary, written on exit and on SIGINT/SIGTERM."),
     lockstep: bool = typer.Option(False, "--lockstep", help="Step only when this tick's command came."),
+    gantry: bool = typer.Option(
+        True, "--gantry/--no-gantry", help="Real time: hold the world still until the first valid command."
+    ),
     damping_after: float = typer.Option(0.1, "--damping-after", help="s without a command before damping."),
     damping_kd: float = typer.Option(2.0, "--damping-kd", help="Damping gain, N m s/rad (kp = 0)."),
     mode_machine: int = typer.Option(0, "--mode-machine", help="The hardware variant reported in LowState_."),
@@ -79,6 +82,7 @@ def dds_robot_cmd(
         iface=iface,
         duration=duration,
         lockstep=lockstep,
+        gantry=gantry,
         damping_after=damping_after,
         damping_kd=damping_kd,
         mode_machine=mode_machine,
@@ -96,7 +100,8 @@ def dds_robot_cmd(
     typer.echo(
         f"{result.sim_time:.3f} s simulated in {result.wall_time:.2f} s, {fall}, moved {result.distance:.3f} m; "
         f"{result.states_published} states out, {result.packets_received} commands in, {result.packets_dropped} "
-        f"dropped ({result.crc_rejects} bad CRC), {result.damping_ticks} ticks damping, {result.late_ticks} late"
+        f"dropped ({result.crc_rejects} bad CRC), {result.damping_ticks} ticks damping, "
+        f"{result.held_ticks} held in the gantry, {result.late_ticks} late"
     )
 
 
@@ -107,7 +112,9 @@ def dds_control_cmd(
     domain: int = typer.Option(1, "--domain", help="DDS domain id (1: simulation; 0, a robot: --real-robot)."),
     iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
     as_json: bool = typer.Option(False, "--json", help="Print the run's summary as JSON (alone on stdout)."),
-    lockstep: bool = typer.Option(False, "--lockstep", help="Tick once per robot tick instead of every 2 ms."),
+    lockstep: bool = typer.Option(
+        False, "--lockstep", help="Tick once per robot tick (its clock) instead of on each state's arrival."
+    ),
     state_timeout: float = typer.Option(10.0, "--state-timeout", help="s to wait for the robot's first state."),
     real_robot: bool = typer.Option(False, "--real-robot", help="Allow domain 0; refuse unless the robot damps."),
     stale_limit: float = typer.Option(0.02, "--stale-limit", help="s: an older state is a fault (damping)."),
@@ -135,7 +142,12 @@ def dds_control_cmd(
     diag_every: int = typer.Option(
         1, "--diag-every", help="Write the state estimate on rt/gaitshift/estimate every N ticks (0: never)."
     ),
-    latency: int = typer.Option(0, "--latency", help="Ticks from the tick to its command acting: predicted."),
+    latency: int | None = typer.Option(
+        None, "--latency", help="Ticks from the tick to its command acting, predicted (0 lockstep, 1 real time)."
+    ),
+    deadline: float = typer.Option(
+        1.5, "--deadline", help="Real time: periods a tick waits for a new state before holding the last command."
+    ),
     known_floor: bool = typer.Option(
         False,
         "--known-floor/--unknown-floor",
@@ -177,6 +189,7 @@ def dds_control_cmd(
         cmd_topic=cmd_topic,
         diag_every=diag_every,
         latency=latency,
+        deadline=deadline,
         known_floor=known_floor,
     )
     _start_brain(opts, warm, as_json, (web, web_port), teleop)

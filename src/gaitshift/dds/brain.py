@@ -23,17 +23,17 @@ The brain reads ``rt/lowstate`` and ``rt/gaitshift/cmd_vel`` only: nothing of th
 The states are read and the commands written as their CDR bytes (:mod:`gaitshift.dds.cdr`: the same
 bytes as cyclonedds's (de)serialization, in a tenth of its time).
 
-Pacing: real time by default (tick ``k`` due at ``t0 + k period`` on the wall clock, the machine's and the
-controller's clock ``k period``, the wall clock on the period's grid; a tick that ends over a period after it
-was due is a missed deadline, and the ticks it overran are skipped); with ``lockstep`` one tick per robot
-tick (the robot's ``rt/gaitshift/clock``, :mod:`gaitshift.dds.lockstep`: a tick that brought no new state
-ticks on the one held, as in real time), the clocks the robot's (its tick less the first state's, in periods), and the
+Pacing: real time by default, a tick on each state's arrival (:mod:`gaitshift.dds.realtime`: the clock the
+robot's, its tick less the first state's, in periods; when no state of a new tick came within ``deadline``
+periods of the last tick's start, the safety checks the state held and the last command is written again);
+with ``lockstep`` one tick per robot tick (the robot's ``rt/gaitshift/clock``, :mod:`gaitshift.dds.lockstep`:
+a tick that brought no new state ticks the controller on the one held), the clock the robot's too, and the
 robot is silent (a stale state) when no clock came within ``stale`` s of the last command. A tick's duration
-runs from the wake-up (real time: the take and deserialization of the states included) or from the robot
-tick's arrival (lockstep) to the command written. The run ends ``final_damping`` s of the machine's clock
-after it entered ``stop`` or ``fault``. A state's age is the time since a state of a new tick was last
-taken: on the wall clock in real time (the robot's clock is not compared with the brain's), in robot ticks
-in lockstep.
+runs from its start (real time: a state's arrival or the deadline; lockstep: the robot tick's arrival) to the
+command written; a tick longer than a period missed its deadline. The run ends ``final_damping`` s of the
+machine's clock after it entered ``stop`` or ``fault``. A state's age, for the stale limit, is the time since
+a state of a new tick was last taken: on the wall clock in real time, in robot ticks in lockstep. The
+controller gets the readings' own time (the state's tick) and their age in ticks.
 Exit codes (:attr:`BrainSummary.exit_code`): 0 the plan ended (or SIGINT/SIGTERM) and the robot damps; 1 a
 fault, no state within ``state_timeout`` s, or a real robot that is not damping at start.
 """
@@ -59,6 +59,7 @@ from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes
 from gaitshift.dds.diagnostics import Diagnostics
 from gaitshift.dds.lockstep import LockstepClock, ticks_from
 from gaitshift.dds.messages import LowState_
+from gaitshift.dds.realtime import ArrivalClock
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.still_gyro import LegRate
 from gaitshift.dds.ticklog import TickLog
@@ -106,6 +107,7 @@ class _Brain:
         self.last: MotorCommand = self.safety.damping
         self.silent = False  # lockstep: the robot stopped answering (a stale state)
         self.clock = LockstepClock(endpoint) if opts.lockstep else None  # lockstep: the robot's ticks
+        self.fresh = True  # real time: this tick brought a state of a new tick (else its deadline passed)
 
     def take(self) -> bool:
         """Take every state received; keep the newest with a good CRC (a message of another encapsulation is
@@ -245,6 +247,8 @@ class _Brain:
             return self.safety.damping, 0
         if self.calibrated < 0 and not self.calibrate(t):
             return self.safety.damping, 0
+        if not self.fresh and self.loco_ticks:  # real time, no new state: the last command again (realtime.py)
+            return self.last, 0
         before = self.ctrl.trajectory
         taken = max(self.taken - self.safety.locomotion_start, 0.0)  # the readings' time on the controller's clock
         age = min(max(round((tl - taken) / self.period), 0), MAX_BRIDGE)
@@ -264,31 +268,29 @@ class _Brain:
 def _loop(brain: _Brain, signals: StopSignals) -> None:
     """Tick until ``final_damping`` s of the machine's clock after it ended (module docstring)."""
     opts, period, safety = brain.opts, brain.period, brain.safety
-    wall0 = time.perf_counter()
-    k, t = 0, 0.0
+    clock = ArrivalClock(period, opts.deadline)
+    first, t = True, 0.0
     while True:
         if opts.lockstep:
             age, tick = brain.wait_lockstep()
             # the robot's clock; without it (the robot silent) the machine's goes on by periods
             t = ticks_from(brain.tick0, tick) * period if tick is not None else t + period
-            due = start = time.perf_counter()
-        else:
-            due = wall0 + k * period
-            time.sleep(max(due - time.perf_counter(), 0.0))
             start = time.perf_counter()
-            t = k * period  # the tick's due time: the controller's samples are on the period's grid
-            if brain.take():
+        else:  # on each state's arrival (gaitshift.dds.realtime)
+            brain.fresh = clock.wait(brain.take, brain.endpoint.wait) or first
+            start = clock.start
+            t = clock.tick(brain.fresh, brain.tick0, brain.state.tick)
+            if brain.fresh:
                 brain.taken = t
-            age = time.perf_counter() - brain.arrival
+            age = start - brain.arrival
+        first = False
         if safety.ended and t - safety.since >= opts.final_damping - 0.5 * period:
             return
         if signals.why:
             safety.stop(t, f"stopped by {signals.why}")
         kind = brain.control(t, age)
         end = time.perf_counter()
-        missed = end - start > period if opts.lockstep else end - due > period
-        brain.log.add(end - start, kind, missed)
-        k = k + 1 if opts.lockstep else max(k + 1, math.ceil((end - wall0) / period))
+        brain.log.add(end - start, kind, end - start > period)
 
 
 def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: float) -> BrainSummary:

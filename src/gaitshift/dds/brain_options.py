@@ -6,6 +6,7 @@ from typing import Any
 
 from gaitshift.control.estimation.calibration import CALIBRATION_TIME
 from gaitshift.control.replanner import REPLAN_MODES
+from gaitshift.dds.realtime import DEADLINE, DEADLINE_RANGE
 from gaitshift.dds.safety import check_settings
 from gaitshift.dds.transport import check_domain
 from gaitshift.errors import InputError, check_flag, number_in
@@ -22,9 +23,10 @@ class BrainOptions:
     Attributes:
         scenario: built-in name or YAML. robot: robot name or YAML (None: the scenario's).
         domain: DDS domain id (0: a real robot, only with ``real_robot``). iface: network interface.
-        lockstep: one tick per robot tick (:mod:`gaitshift.dds.lockstep`). state_timeout: s to wait for the
-        first state. real_robot: allow domain 0; refuse unless the robot is passive at start
-        (:func:`~gaitshift.dds.brain_setup.passive_at_start`).
+        lockstep: one tick per robot tick (:mod:`gaitshift.dds.lockstep`). deadline: real time: periods
+        after a tick's start that the next waits for a state (:mod:`gaitshift.dds.realtime`).
+        state_timeout: s to wait for the first state. real_robot: allow domain 0; refuse unless the robot
+        is passive at start (:func:`~gaitshift.dds.brain_setup.passive_at_start`).
         stale: s. damping_time, standup_time: s. damping_kd: N m s/rad. tilt: rad.
         final_damping: s of damping written after ``stop`` or ``fault`` before exiting.
         contact: the controller's contact detection ("torque": no foot force needed).
@@ -36,8 +38,9 @@ class BrainOptions:
         diag_every: write the state estimate on ``rt/gaitshift/estimate`` every this many ticks (0: never).
         latency: ticks from the brain's tick to its command acting, which the controller predicts across
             beside the state's own age (``ControllerSettings.latency``: the command's way to the motors;
-            in lockstep the robot applies it at the tick it answers, 0; in real time the link's delay, which
-            the brain cannot see, too).
+            in lockstep the robot applies it at the tick it answers, 0; in real time at its next tick, 1,
+            plus the link's delay, which the brain cannot see). None: 0 in lockstep, 1 in real time
+            (:attr:`command_latency`).
         known_floor: the robot stands on a flat floor, whose height the estimator then takes as a
             measurement when the scenario has no terrain (``ControllerSettings.floor``); False: unknown.
     """
@@ -47,6 +50,7 @@ class BrainOptions:
     domain: int = 1
     iface: str = "lo"
     lockstep: bool = False
+    deadline: float = DEADLINE
     state_timeout: float = 10.0
     real_robot: bool = False
     stale: float = 0.02
@@ -61,7 +65,7 @@ class BrainOptions:
     calibrate: bool = True
     cmd_topic: bool = False
     diag_every: int = 1
-    latency: int = 0
+    latency: int | None = None
     known_floor: bool = False
 
     def __post_init__(self) -> None:
@@ -74,12 +78,22 @@ class BrainOptions:
         if self.replan not in REPLAN_MODES:
             raise InputError("--replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
         number_in("--hold", self.hold, (0.0, 60.0), "s")
-        if isinstance(self.latency, bool) or not isinstance(self.latency, int):
-            raise InputError("--latency", self.latency, "an integer number of ticks")
-        number_in("--latency", self.latency, LATENCY_RANGE, "ticks")
+        number_in("--deadline", self.deadline, DEADLINE_RANGE, "periods")
+        if self.latency is not None:
+            if isinstance(self.latency, bool) or not isinstance(self.latency, int):
+                raise InputError("--latency", self.latency, "an integer number of ticks")
+            number_in("--latency", self.latency, LATENCY_RANGE, "ticks")
         check_flag("--known-floor", self.known_floor)
         if isinstance(self.diag_every, bool) or not isinstance(self.diag_every, int) or self.diag_every < 0:
             raise InputError("--diag-every", self.diag_every, "an integer >= 0 (0: no diagnostics)")
+
+    @property
+    def command_latency(self) -> int:
+        """The ticks the controller predicts across: ``latency``, or by default 0 in lockstep and 1 in real
+        time (a command computed on a state's arrival acts at the robot's next tick)."""
+        if self.latency is not None:
+            return self.latency
+        return 0 if self.lockstep else 1
 
 
 @dataclass(frozen=True)

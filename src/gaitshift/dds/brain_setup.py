@@ -17,7 +17,7 @@ PASSIVE_TAU = 1.0
 
 def build_controller(opts: BrainOptions) -> Controller:
     """The controller of ``opts.scenario`` on ``opts.robot`` with ``contact=opts.contact``,
-    ``replan=opts.replan``, ``latency=opts.latency`` and ``known_floor=opts.known_floor``; its
+    ``replan=opts.replan``, ``latency=opts.command_latency`` and ``known_floor=opts.known_floor``; its
     motors must be the hg slots in order (the G1)."""
     ctrl = Controller.from_scenario(
         opts.scenario,
@@ -25,7 +25,7 @@ def build_controller(opts: BrainOptions) -> Controller:
         known_floor=opts.known_floor,
         contact=opts.contact,
         replan=opts.replan,
-        latency=opts.latency,
+        latency=opts.command_latency,
     )
     check_motor_order(ctrl.motor_names)
     return ctrl

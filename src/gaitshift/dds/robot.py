@@ -25,7 +25,10 @@ the controller may take its time, and it ticks once per robot tick, as in real t
 releases no intact state (one in flight, dropped or corrupted) it ticks on the state it holds; on a tick
 that releases several (a delay that shrank: the link keeps their order) it measures the older ones and
 acts on the newest, which the clock names, so that a run repeats whatever the machine's scheduling. The run
-ends after ``duration`` s of simulated time, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary either way).
+holds in real time until a first valid command has come (``gantry``): its ticks count on and their states are
+written, but the world does not step, as a robot held in its gantry while the brain starts (how long the
+brain and the robot take to find each other on DDS varies; a G1 in damping folds in a fraction of a second).
+The run ends after ``duration`` s of ticks, or at SIGINT/SIGTERM (:func:`run_robot` returns the summary either way).
 """
 
 import copy
@@ -66,6 +69,7 @@ class RobotOptions:
         iface: network interface (``lo``: nothing leaves the machine).
         duration: simulated seconds to run, or None: until SIGINT/SIGTERM.
         lockstep: step only when a command for this tick's clock has arrived (else real time).
+        gantry: real time: the world holds still (no physics step) until the first valid command.
         damping_after: s without a valid command before the motors damp.
         damping_kd: N m s/rad, the damping gain.
         mode_machine: the hardware variant reported in every LowState_.
@@ -82,6 +86,7 @@ class RobotOptions:
     iface: str = "lo"
     duration: float | None = None
     lockstep: bool = False
+    gantry: bool = True
     damping_after: float = 0.1
     damping_kd: float = 2.0
     mode_machine: int = 0
@@ -111,7 +116,8 @@ class RobotSummary:
     Attributes:
         fell: the world's fall test fired; fall_time: s of simulated time at the first fall (NaN: none);
         fall_reason: its reason. distance: m, horizontal pelvis displacement from the start.
-        sim_time: s simulated; ticks: physics steps; wall_time: s.
+        sim_time: s of ticks (a gantry's hold included); ticks: ticks; held_ticks: of which the gantry
+        held (no physics step); wall_time: s.
         states_published: LowState_ written (repeats in lockstep included).
         packets_received: LowCmd_ received; packets_dropped: of which dropped (a bad CRC or a bad field);
         crc_rejects: of which dropped for their CRC. commands_applied: ticks driven by a received command;
@@ -129,6 +135,7 @@ class RobotSummary:
     distance: float = 0.0
     sim_time: float = 0.0
     ticks: int = 0
+    held_ticks: int = 0
     wall_time: float = 0.0
     states_published: int = 0
     packets_received: int = 0
@@ -236,16 +243,19 @@ class _Robot:
                 self.score.add(msg)
 
     def act(self, k: int) -> None:
-        """Apply the command of tick ``k`` (damping when none is recent) and step the physics."""
-        t = k * self.dt
+        """Apply the command of tick ``k`` (damping when none is recent) and step the physics; held in the
+        gantry (real time, no valid command yet), only count the tick."""
+        t, s = k * self.dt, self.summary
+        s.ticks, s.sim_time = k + 1, (k + 1) * self.dt
+        if self.opts.gantry and not self.opts.lockstep and self.command is None:
+            s.held_ticks += 1
+            return
         if self.command is not None and t - self.command_time <= self.opts.damping_after:
-            cmd, self.summary.commands_applied = self.command, self.summary.commands_applied + 1
+            cmd, s.commands_applied = self.command, s.commands_applied + 1
         else:
-            cmd, self.summary.damping_ticks = self.damping, self.summary.damping_ticks + 1
+            cmd, s.damping_ticks = self.damping, s.damping_ticks + 1
         self.world.apply(cmd, k)
         self.world.step()
-        self.summary.ticks = k + 1
-        self.summary.sim_time = (k + 1) * self.dt
 
 
 def scenario_world(world: str | None) -> tuple[Terrain, float | None]:
