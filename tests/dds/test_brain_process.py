@@ -176,6 +176,8 @@ def test_no_robot_is_one_line_and_exit_1(tmp_path):
         (["--hold", "-0.1"], "--hold"),
         (["--diag-every", "-1"], "--diag-every"),
         (["--latency", "51"], "--latency"),
+        (["--deadline", "0.5"], "--deadline"),
+        (["--rt-priority", "0"], "--rt-priority"),
         (["--cmd-topic"], "--cmd-topic"),  # g1-walk's plan is fixed: no live command
     ],
 )

@@ -20,6 +20,7 @@ from gaitshift.sim.plant import build_plant
         (["--drop", "0.9"], "--drop"),
         (["--delay-ms", "2", "--jitter-ms", "3"], "--jitter-ms"),
         (["--world", "nowhere"], "--world"),
+        (["--rt-priority", "100"], "--rt-priority"),
     ],
 )
 def test_a_bad_flag_is_one_line_and_exit_2(cli, flags, name):

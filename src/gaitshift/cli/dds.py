@@ -60,6 +60,9 @@ def dds_robot_cmd(
     world: str | None = typer.Option(
         None, "--world", help="Scenario (name or YAML) whose terrain and floor friction build the world (flat)."
     ),
+    rt_priority: int | None = typer.Option(
+        None, "--rt-priority", help="Run the loop under SCHED_FIFO at this priority, 1-99 (needs root)."
+    ),
 ) -> None:
     """Run ROBOT in gaitshift's MuJoCo world behind the protocol: rt/lowstate out every control period,
     rt/lowcmd in (bad CRCs dropped and counted), tau + kp (q_des - q) + kd (dq_des - dq) per motor; with
@@ -89,6 +92,7 @@ def dds_robot_cmd(
         noise=noise,
         faults=faults,
         world=world,
+        rt_priority=rt_priority,
     )
     mode = "lockstep" if lockstep else "real time"
     typer.echo(f"{robot} on DDS domain {domain} over {iface} ({mode}): rt/lowstate out, rt/lowcmd in", err=True)
@@ -148,6 +152,9 @@ def dds_control_cmd(
     deadline: float = typer.Option(
         1.5, "--deadline", help="Real time: periods a tick waits for a new state before holding the last command."
     ),
+    rt_priority: int | None = typer.Option(
+        None, "--rt-priority", help="Run the tick under SCHED_FIFO at this priority, 1-99 (needs root)."
+    ),
     known_floor: bool = typer.Option(
         False,
         "--known-floor/--unknown-floor",
@@ -191,6 +198,7 @@ def dds_control_cmd(
         latency=latency,
         deadline=deadline,
         known_floor=known_floor,
+        rt_priority=rt_priority,
     )
     _start_brain(opts, warm, as_json, (web, web_port), teleop)
 

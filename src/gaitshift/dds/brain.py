@@ -59,6 +59,7 @@ from gaitshift.dds.convert import frame_from_lowstate, lowcmd_bytes
 from gaitshift.dds.diagnostics import Diagnostics
 from gaitshift.dds.lockstep import LockstepClock, ticks_from
 from gaitshift.dds.messages import LowState_
+from gaitshift.dds.priority import set_priority
 from gaitshift.dds.realtime import ArrivalClock
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.still_gyro import LegRate
@@ -363,6 +364,7 @@ def run_brain(
     if opts.real_robot and not passive_at_start(LowState_.deserialize(brain.state.data), brain.n):
         reason = "refused: the robot is not damping or zero-torque (every motor mode 0 or |tau_est| < 1 N m) at start"
         return _summary(None, 1, reason, "damping", time.perf_counter() - start)
+    set_priority(opts.rt_priority, "--rt-priority")
     signals = StopSignals()
     try:
         _loop(brain, signals)

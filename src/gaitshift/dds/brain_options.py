@@ -6,6 +6,7 @@ from typing import Any
 
 from gaitshift.control.estimation.calibration import CALIBRATION_TIME
 from gaitshift.control.replanner import REPLAN_MODES
+from gaitshift.dds.priority import check_priority
 from gaitshift.dds.realtime import DEADLINE, DEADLINE_RANGE
 from gaitshift.dds.safety import check_settings
 from gaitshift.dds.transport import check_domain
@@ -41,6 +42,8 @@ class BrainOptions:
             in lockstep the robot applies it at the tick it answers, 0; in real time at its next tick, 1,
             plus the link's delay, which the brain cannot see). None: 0 in lockstep, 1 in real time
             (:attr:`command_latency`).
+        rt_priority: run the tick's thread under SCHED_FIFO at this priority (:mod:`gaitshift.dds.priority`;
+            None: a normal thread).
         known_floor: the robot stands on a flat floor, whose height the estimator then takes as a
             measurement when the scenario has no terrain (``ControllerSettings.floor``); False: unknown.
     """
@@ -67,6 +70,7 @@ class BrainOptions:
     diag_every: int = 1
     latency: int | None = None
     known_floor: bool = False
+    rt_priority: int | None = None
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
@@ -84,6 +88,7 @@ class BrainOptions:
                 raise InputError("--latency", self.latency, "an integer number of ticks")
             number_in("--latency", self.latency, LATENCY_RANGE, "ticks")
         check_flag("--known-floor", self.known_floor)
+        check_priority(self.rt_priority, "--rt-priority")
         if isinstance(self.diag_every, bool) or not isinstance(self.diag_every, int) or self.diag_every < 0:
             raise InputError("--diag-every", self.diag_every, "an integer >= 0 (0: no diagnostics)")
 
