@@ -116,9 +116,7 @@ def dds_control_cmd(
     domain: int = typer.Option(1, "--domain", help="DDS domain id (1: simulation; 0, a robot: --real-robot)."),
     iface: str = typer.Option("lo", "--iface", help="Network interface (lo: nothing leaves the machine)."),
     as_json: bool = typer.Option(False, "--json", help="Print the run's summary as JSON (alone on stdout)."),
-    lockstep: bool = typer.Option(
-        False, "--lockstep", help="Tick once per robot tick (its clock) instead of on each state's arrival."
-    ),
+    lockstep: bool = typer.Option(False, "--lockstep", help="Tick once per robot tick, on its clock."),
     state_timeout: float = typer.Option(10.0, "--state-timeout", help="s to wait for the robot's first state."),
     real_robot: bool = typer.Option(False, "--real-robot", help="Allow domain 0; refuse unless the robot damps."),
     stale_limit: float = typer.Option(0.02, "--stale-limit", help="s: an older state is a fault (damping)."),
@@ -131,30 +129,20 @@ def dds_control_cmd(
     replan: str = typer.Option(
         "process", "--replan", help="Where the plan is re-planned: process (off the tick), thread or inline."
     ),
-    warm: bool = typer.Option(
-        True, "--warm-up/--no-warm-up", help="Tick a throwaway controller first (fast 1st ticks)."
-    ),
+    warm: bool = typer.Option(True, "--warm-up/--no-warm-up", help="Tick a throwaway controller first."),
     hold: float | None = typer.Option(
-        None, "--hold", help="s standing still after the stand-up: the gyro calibration (default 2 s)."
+        None, "--hold", help="s standing still after the stand-up (2): gyro calibration."
     ),
-    calibrate: bool = typer.Option(
-        True, "--calibrate/--no-calibrate", help="Calibrate the gyro from the hold's readings."
-    ),
+    calibrate: bool = typer.Option(True, "--calibrate/--no-calibrate", help="Calibrate the gyro from the hold."),
     cmd_topic: bool = typer.Option(
         False, "--cmd-topic", help="Take live velocity commands from rt/gaitshift/cmd_vel (a locomotion scenario)."
     ),
     diag_every: int = typer.Option(
         1, "--diag-every", help="Write the state estimate on rt/gaitshift/estimate every N ticks (0: never)."
     ),
-    latency: int | None = typer.Option(
-        None, "--latency", help="Ticks from the tick to its command acting, predicted (0 lockstep, 1 real time)."
-    ),
-    deadline: float = typer.Option(
-        1.5, "--deadline", help="Real time: periods a tick waits for a new state before holding the last command."
-    ),
-    rt_priority: int | None = typer.Option(
-        None, "--rt-priority", help="Run the tick under SCHED_FIFO at this priority, 1-99 (needs root)."
-    ),
+    latency: int | None = typer.Option(None, "--latency", help="Ticks to predict across (0 lockstep, 1 real time)."),
+    deadline: float = typer.Option(1.5, "--deadline", help="Real time: periods a tick waits for a new state."),
+    rt_priority: int | None = typer.Option(None, "--rt-priority", help="SCHED_FIFO priority of the tick, 1-99."),
     known_floor: bool = typer.Option(
         False,
         "--known-floor/--unknown-floor",

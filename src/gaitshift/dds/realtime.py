@@ -3,11 +3,11 @@
 A brain that ticks on a grid of its own (tick ``k`` due at ``t0 + k dt`` on the wall clock) meets the
 robot's states at whatever phase the two clocks happen to have: a state that arrives just after a due
 time waits almost a period for the next, so its command reaches the motors two robot ticks after the
-readings instead of one, and which of the two varies from tick to tick as the clocks drift (measured on
-the G1 tour, two processes on this machine, 2026-11-29: 1 tick for 42 %, 2 ticks for 57 %; the
-controller can predict across a known latency, not across one that flips). Ticking on the state's
-arrival gives every command the same way to the motors: computed at once, it is applied at the robot's
-next tick (91 % of the ticks on the same tour; the rest are ticks that overran). So::
+readings instead of one, and which of the two varies as the clocks drift (measured on the G1 tour, two
+processes on this machine, 2026-11-29: 1 tick for 45 %, 2 ticks for 51 %; the controller can predict
+across a known latency, not across one that flips). Ticking on the state's arrival gives every command the
+same way to the motors: computed at once, it is applied at the robot's next tick (92 % of the ticks on the
+same tour; the rest are ticks that overran). So::
 
     wait for a state of a new tick, at most ``deadline`` periods after the last tick started
     (and at least ``MIN_WAIT`` s, so that the receive thread can hand over what came during a long tick)
