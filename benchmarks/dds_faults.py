@@ -7,9 +7,12 @@ times (lockstep: the brain's own compute per tick, not a real-time figure). The 
 lockstep the wall clock measures the machine's load, not the link. The brain re-plans inline by default
 (``--replan``): in lockstep a tick may take its time, and the runs do not depend on the load (the off-tick
 worker's plans come later the busier the machine, a real-time matter: docs/deploy.md "Real time").
+``--real-time``: both processes on the wall clock instead (the robot in its gantry until the brain's first
+command, the brain's stale limit and ``--latency`` their defaults, the re-plans ``--replan`` as given): the
+tick figures are then real-time ones, and a run depends on the machine's load.
 
     PYTHONPATH=src .venv/bin/python benchmarks/dds_faults.py [SCENARIO] [--noise typical] [--domain 120]
-        [--only clean drop ...] [--latency TICKS] [--replan inline] [--seed 1] [--json out.json]
+        [--only clean drop ...] [--latency TICKS] [--replan inline] [--seed 1] [--real-time] [--json out.json]
 """
 
 from __future__ import annotations
@@ -40,17 +43,20 @@ def run(
     domain: int,
     noise: str,
     folder: Path,
-    latency: int = 0,
+    latency: int | None = None,
     replan: str = "inline",
     seed: int = 1,
+    real_time: bool = False,
 ) -> dict:
     """One run of the pair (module docstring): both summaries and the wall time."""
     env = {**os.environ, "MUJOCO_GL": "egl"}
     robot_json = folder / f"robot-{domain}.json"
-    robot_cmd = ["dds", "robot", "g1", "--domain", str(domain), "--lockstep", "--noise", noise]
+    pace = [] if real_time else ["--lockstep"]
+    robot_cmd = ["dds", "robot", "g1", "--domain", str(domain), *pace, "--noise", noise]
     robot_cmd += ["--summary", str(robot_json), "--world", scenario, "--seed", str(seed), *FAULTS[name]]
-    brain_cmd = ["dds", "control", scenario, "--domain", str(domain), "--lockstep", "--json", "--stale-limit", "0.5"]
-    brain_cmd += ["--latency", str(latency), "--replan", replan]
+    brain_cmd = ["dds", "control", scenario, "--domain", str(domain), *pace, "--json", "--replan", replan]
+    brain_cmd += [] if real_time else ["--stale-limit", "0.5"]
+    brain_cmd += [] if latency is None else ["--latency", str(latency)]
     start = time.perf_counter()
     with open(folder / f"robot-{domain}.err", "w") as rerr:
         robot = subprocess.Popen([sys.executable, "-c", CODE, *robot_cmd], stderr=rerr, env=env)
@@ -62,7 +68,7 @@ def run(
     wall = time.perf_counter() - start
     b = json.loads(brain.stdout) if brain.stdout.strip() else {}
     r = json.loads(robot_json.read_text()) if robot_json.exists() else {}
-    name += f", brain --latency {latency}" if latency else ""
+    name += f", brain --latency {latency}" if latency is not None else ""
     return {"fault": name, "exit": brain.returncode, "stderr": brain.stderr.strip().splitlines()[-1:], "brain": b,
             "robot": r, "wall_s": wall}  # fmt: skip
 
@@ -93,9 +99,10 @@ def main() -> None:
     ap.add_argument("--noise", default="typical")
     ap.add_argument("--domain", type=int, default=120)
     ap.add_argument("--only", nargs="+", choices=list(FAULTS), default=list(FAULTS))
-    ap.add_argument("--latency", type=int, default=0, help="the brain's --latency (ticks it predicts across)")
+    ap.add_argument("--latency", type=int, default=None, help="the brain's --latency (default: the brain's)")
     ap.add_argument("--replan", default="inline", help="the brain's --replan (lockstep: inline is deterministic)")
     ap.add_argument("--seed", type=int, default=1, help="the robot process's --seed (its noise and link faults)")
+    ap.add_argument("--real-time", action="store_true", help="both on the wall clock instead of lockstep")
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     results = []
@@ -108,7 +115,10 @@ def main() -> None:
     )
     with tempfile.TemporaryDirectory() as tmp:
         for i, name in enumerate(args.only):
-            res = run(args.scenario, name, args.domain + i, args.noise, Path(tmp), args.latency, args.replan, args.seed)
+            res = run(
+                args.scenario, name, args.domain + i, args.noise, Path(tmp), args.latency, args.replan, args.seed,
+                args.real_time,
+            )  # fmt: skip
             results.append(res)
             print(row(res), flush=True)
     if args.json:
