@@ -55,7 +55,7 @@ def machine(ctrl, standup_time):
 
 
 def run(scenario, standup_time, replan="process", wire="cdr"):
-    opts = BrainOptions(scenario, replan=replan)
+    opts = BrainOptions(scenario, replan=replan, lockstep=True)  # the world applies each command at once
     ctrl = build_controller(opts)
     warm_up(build_controller(replace(opts, replan="inline")))
     saf = machine(ctrl, standup_time)
@@ -98,7 +98,7 @@ def run(scenario, standup_time, replan="process", wire="cdr"):
         world.step()
     lags = np.asarray(getattr(ctrl.replan, "lags", []), float)
     ctrl.replan.close()
-    return np.array(rows) * 1e3, np.array(kinds), saf.phase, lags
+    return np.array(rows) * 1e3, np.array(kinds), f"{saf.phase}: {saf.reason}", lags
 
 
 def stats(a):
