@@ -17,7 +17,8 @@ truth stays in this process, nothing of it is written on DDS.
 
 The command applied is the newest valid one; when none has come for ``damping_after`` s (or none yet) the
 motors damp: ``kp = 0``, ``kd = damping_kd``, ``tau = 0``. Pacing: real time by default (tick k at
-``t0 + k dt`` on the wall clock; ticks that start late are counted); with ``lockstep``, once a first intact
+``t0 + k dt`` on the wall clock; a late tick moves ``t0`` on by its lateness, and one over a period late
+is counted); with ``lockstep``, once a first intact
 state is written, every tick writes the robot's clock (``rt/gaitshift/clock``: the tick and the newest
 intact state written so far, :mod:`gaitshift.dds.lockstep`) and the world steps only when a valid command
 has arrived after it (the state and the clock written again every ``resend`` s of wall time meanwhile), so

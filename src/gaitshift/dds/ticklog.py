@@ -2,8 +2,8 @@
 
 A tick's duration is the wall time from the state taken to the command written (the state's
 conversion, the safety machine, the controller's tick, the command's conversion and its CRC, the DDS
-write). A deadline is missed when a tick ends more than one period after it was due (real time), or,
-in lockstep, when it lasts longer than a period. Ticks on which the controller re-planned are marked,
+write). A deadline is missed when a tick lasts longer than a period (real time: its command comes after
+the robot's next tick, :mod:`gaitshift.dds.realtime`). Ticks on which the controller re-planned are marked,
 so that the planning's share shows apart.
 """
 
