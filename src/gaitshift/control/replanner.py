@@ -25,11 +25,12 @@ ticks later). A background run depends on the worker's timing: it is not determi
 
 ``thread`` shares the interpreter lock with the ticks (``sys.setswitchinterval`` is lowered to
 :data:`SWITCH_INTERVAL` s for the whole process so that a tick waits less for it); ``process`` runs the
-driver in a spawned process (its own interpreter, niced by :data:`PLANNER_NICE`; the plan comes back as a
-pickle in a file of a private folder, so the tick never waits for the worker to write it): the one for real
-time. A program that builds a "process" controller must guard its main module (``if __name__ ==
-"__main__":``), as any program that spawns processes; an error of the worker's driver is raised by the next
-tick as a :class:`~gaitshift.errors.GaitshiftError` with its message.
+driver in a spawned process (its own interpreter, niced by :data:`PLANNER_NICE`; the plan comes back in a
+file of a private folder, its arrays mapped rather than copied, :mod:`gaitshift.control.plan_files`, so
+the tick never waits for the worker to write it nor reads the whole plan): the one for real time. A
+program that builds a "process" controller must guard its main module (``if __name__ == "__main__":``), as
+any program that spawns processes; an error of the worker's driver is raised by the next tick as a
+:class:`~gaitshift.errors.GaitshiftError` with its message.
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ from typing import Any
 import numpy as np
 
 from gaitshift.control.drivers import PlanDriver
+from gaitshift.control.plan_files import read_plan, write_plan
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.errors import GaitshiftError, InputError
 from gaitshift.trajectory.contract import Trajectory
@@ -78,9 +80,9 @@ SWITCH_INTERVAL = 2e-4
 Update = tuple[Trajectory, PlanSamples]
 
 #: a request to the worker: a tag and its values (tick: t s, com (3,) m, com_vel (3,) m/s; command: vx m/s,
-#: vy m/s, yaw_rate rad/s; goto: x m, y m, yaw rad; stop, quit: none), padded with zeros to seven float64
-#: on the process's pipe
-_TICK, _COMMAND, _GOTO, _STOP, _QUIT = b"T", b"C", b"G", b"S", b"Q"
+#: vy m/s, yaw_rate rad/s; goto: x m, y m, yaw rad; stop, quit: none; free: the number of the oldest plan
+#: file the host may still map), padded with zeros to seven float64 on the process's pipe
+_TICK, _COMMAND, _GOTO, _STOP, _QUIT, _FREE = b"T", b"C", b"G", b"S", b"Q", b"F"
 #: bytes of a request record (tag, 7 float64) and of a result record (tag "P" or "E", 3 int64)
 _REQUEST, _RESULT = 57, 25
 #: the worker process's niceness: it takes the cores the ticks leave (a re-plan waits rather than a tick)
@@ -162,18 +164,24 @@ def _requests(fd: int) -> Iterator[tuple[bytes, tuple[float, ...]]]:
 
 def _serve_process(requests: Connection, results: Connection, payload: str, sole_length: float) -> None:
     """The worker process (niced by :data:`PLANNER_NICE`): the driver from the pickle file ``payload``;
-    requests as fixed records on ``requests``; each new plan (or error) pickled into the file ``<n>.pkl`` of
-    the payload's folder, then the record (tag, n, re-plans, tick) on ``results``: written whole before it
-    is announced, so that the tick never waits for the worker."""
+    requests as fixed records on ``requests``; each new plan (or error) written into the file ``<n>.plan`` of
+    the payload's folder (:mod:`gaitshift.control.plan_files`), then the record (tag, n, re-plans, tick) on
+    ``results``: written whole before it is announced, so that the tick never waits for the worker; the
+    files the host no longer maps removed when it says so (``_FREE``)."""
     folder = Path(payload).parent
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # a ^C is the host's to handle; the worker ends with its pipe
     with contextlib.suppress(OSError, AttributeError):
         os.nice(PLANNER_NICE)
     worker = _Worker(pickle.loads(Path(payload).read_bytes()), sole_length)
-    n = 0
+    n = freed = 0
     for tag, values in _requests(requests.fileno()):
         if tag == _QUIT:
             return
+        if tag == _FREE:  # removed here: freeing a mapped file's pages is the worker's time, not the tick's
+            for k in range(freed + 1, int(values[0])):
+                (folder / f"{k}.plan").unlink(missing_ok=True)
+            freed = max(freed, int(values[0]) - 1)
+            continue
         try:
             out: Any = worker.handle(tag, values)
         except Exception as e:  # handed to the controller, raised by its next tick (one picklable type)
@@ -182,8 +190,8 @@ def _serve_process(requests: Connection, results: Connection, payload: str, sole
             continue
         n += 1
         tmp = folder / f"{n}.tmp"
-        tmp.write_bytes(pickle.dumps(out[0], protocol=pickle.HIGHEST_PROTOCOL))
-        tmp.rename(folder / f"{n}.pkl")
+        write_plan(tmp, out[0])
+        tmp.rename(folder / f"{n}.plan")
         kind = b"E" if isinstance(out[0], Exception) else b"P"
         os.write(results.fileno(), kind + struct.pack("<3q", n, out[1], out[2]))
 
@@ -228,7 +236,7 @@ class _ThreadLink:
 
 class _ProcessLink:
     """The worker as a spawned process: fixed-size records on two pipes, read and written without blocking
-    on this side; plans and errors in pickle files of a private folder (in /dev/shm when there is one)."""
+    on this side; plans and errors in files of a private folder (in /dev/shm when there is one)."""
 
     def __init__(self, driver: PlanDriver, sole_length: float) -> None:
         self.folder = Path(
@@ -245,6 +253,7 @@ class _ProcessLink:
         req_r.close()
         res_w.close()
         self.out, self.inbox, self.buf = req_w.fileno(), res_r.fileno(), b""
+        self.read = 1  # the newest plan number of the last take: the files before it are freed
         os.set_blocking(self.out, False)
         os.set_blocking(self.inbox, False)
         self.close = weakref.finalize(self, _stop_process, self.proc, req_w, res_r, str(self.folder))
@@ -269,11 +278,12 @@ class _ProcessLink:
         got = []
         for k in range(0, whole, _RESULT):
             n, replans, tick = struct.unpack("<3q", self.buf[k + 1 : k + _RESULT])
-            path = self.folder / f"{n}.pkl"
-            what = pickle.loads(path.read_bytes())
-            path.unlink()
+            what = read_plan(self.folder / f"{n}.plan")
             got.append(("error", what) if self.buf[k : k + 1] == b"E" else ("plan", what, replans, tick))
         self.buf = self.buf[whole:]
+        if got:  # the plans read before this take are no longer mapped (the controller holds the newest)
+            self.put(_FREE, (float(self.read),))
+            self.read = n
         return got
 
 
