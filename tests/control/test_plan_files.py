@@ -6,7 +6,7 @@ writer's side to remove."""
 import numpy as np
 import pytest
 
-from gaitshift.control.plan_files import read_plan, write_plan
+from gaitshift.control.plan_files import PlanFolder, read_plan, write_plan
 from gaitshift.errors import GaitshiftError
 
 
@@ -47,3 +47,16 @@ def test_a_file_that_is_not_a_plan_is_refused(tmp_path):
     path.write_bytes(b"not a plan at all, long enough to map")
     with pytest.raises(ValueError, match="not a plan file"):
         read_plan(path)
+
+
+def test_a_plan_folder_names_a_file_only_when_whole_and_frees_only_those_before(tmp_path):
+    files = PlanFolder(tmp_path)
+    for n in range(1, 5):
+        files.write(n, {"n": np.full(100, float(n))})
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["1.plan", "2.plan", "3.plan", "4.plan"]
+    files.free_before(3)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["3.plan", "4.plan"]
+    np.testing.assert_array_equal(files.read(3)["n"], np.full(100, 3.0))
+    files.free_before(2)  # an older word changes nothing
+    files.free_before(5)
+    assert not list(tmp_path.iterdir())

@@ -22,7 +22,7 @@ import struct
 from pathlib import Path
 from typing import Any
 
-__all__ = ["read_plan", "write_plan"]
+__all__ = ["PlanFolder", "read_plan", "write_plan"]
 
 _MAGIC = b"GSPF"
 _ALIGN = 64
@@ -60,3 +60,32 @@ def read_plan(path: Path) -> Any:
     spans = [struct.unpack_from("<2Q", view, table + 16 * k) for k in range(n_buf)]
     head = view[table + 16 * n_buf : table + 16 * n_buf + n_head]
     return pickle.loads(head, buffers=[view[start : start + size] for start, size in spans])
+
+
+class PlanFolder:
+    """A worker's numbered plan files in ``folder``: ``<n>.plan``, written whole under another name first
+    (a reader told of plan ``n`` never finds it half written), read mapped, removed by the writer's side once
+    the reader no longer maps them.
+
+    Attributes:
+        folder: where the files are. freed: the files numbered up to this one are removed.
+    """
+
+    def __init__(self, folder: Path) -> None:
+        self.folder, self.freed = Path(folder), 0
+
+    def write(self, n: int, obj: Any) -> None:
+        """Write plan ``n`` (:func:`write_plan`), then name it."""
+        tmp = self.folder / f"{n}.tmp"
+        write_plan(tmp, obj)
+        tmp.rename(self.folder / f"{n}.plan")
+
+    def read(self, n: int) -> Any:
+        """Plan ``n``, mapped (:func:`read_plan`)."""
+        return read_plan(self.folder / f"{n}.plan")
+
+    def free_before(self, n: int) -> None:
+        """Remove the files of the plans before ``n`` (the reader maps none of them any more)."""
+        for k in range(self.freed + 1, n):
+            (self.folder / f"{k}.plan").unlink(missing_ok=True)
+        self.freed = max(self.freed, n - 1)

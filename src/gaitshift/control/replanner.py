@@ -56,7 +56,7 @@ from typing import Any
 import numpy as np
 
 from gaitshift.control.drivers import PlanDriver
-from gaitshift.control.plan_files import read_plan, write_plan
+from gaitshift.control.plan_files import PlanFolder
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.errors import GaitshiftError, InputError
 from gaitshift.trajectory.contract import Trajectory
@@ -164,23 +164,20 @@ def _requests(fd: int) -> Iterator[tuple[bytes, tuple[float, ...]]]:
 
 def _serve_process(requests: Connection, results: Connection, payload: str, sole_length: float) -> None:
     """The worker process (niced by :data:`PLANNER_NICE`): the driver from the pickle file ``payload``;
-    requests as fixed records on ``requests``; each new plan (or error) written into the file ``<n>.plan`` of
-    the payload's folder (:mod:`gaitshift.control.plan_files`), then the record (tag, n, re-plans, tick) on
-    ``results``: written whole before it is announced, so that the tick never waits for the worker; the
-    files the host no longer maps removed when it says so (``_FREE``)."""
-    folder = Path(payload).parent
+    requests as fixed records on ``requests``; each new plan (or error) as file ``n`` of the payload's folder
+    (:class:`~gaitshift.control.plan_files.PlanFolder`, freed when the host says so), then announced on
+    ``results`` as the record (tag, n, re-plans, tick): the tick never waits for the worker."""
+    files = PlanFolder(Path(payload).parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # a ^C is the host's to handle; the worker ends with its pipe
     with contextlib.suppress(OSError, AttributeError):
         os.nice(PLANNER_NICE)
     worker = _Worker(pickle.loads(Path(payload).read_bytes()), sole_length)
-    n = freed = 0
+    n = 0
     for tag, values in _requests(requests.fileno()):
         if tag == _QUIT:
             return
         if tag == _FREE:  # removed here: freeing a mapped file's pages is the worker's time, not the tick's
-            for k in range(freed + 1, int(values[0])):
-                (folder / f"{k}.plan").unlink(missing_ok=True)
-            freed = max(freed, int(values[0]) - 1)
+            files.free_before(int(values[0]))
             continue
         try:
             out: Any = worker.handle(tag, values)
@@ -189,9 +186,7 @@ def _serve_process(requests: Connection, results: Connection, payload: str, sole
         if out is None:
             continue
         n += 1
-        tmp = folder / f"{n}.tmp"
-        write_plan(tmp, out[0])
-        tmp.rename(folder / f"{n}.plan")
+        files.write(n, out[0])
         kind = b"E" if isinstance(out[0], Exception) else b"P"
         os.write(results.fileno(), kind + struct.pack("<3q", n, out[1], out[2]))
 
@@ -253,7 +248,7 @@ class _ProcessLink:
         req_r.close()
         res_w.close()
         self.out, self.inbox, self.buf = req_w.fileno(), res_r.fileno(), b""
-        self.read = 1  # the newest plan number of the last take: the files before it are freed
+        self.files, self.read = PlanFolder(self.folder), 1  # read: the last take's newest plan (freed before it)
         os.set_blocking(self.out, False)
         os.set_blocking(self.inbox, False)
         self.close = weakref.finalize(self, _stop_process, self.proc, req_w, res_r, str(self.folder))
@@ -278,10 +273,10 @@ class _ProcessLink:
         got = []
         for k in range(0, whole, _RESULT):
             n, replans, tick = struct.unpack("<3q", self.buf[k + 1 : k + _RESULT])
-            what = read_plan(self.folder / f"{n}.plan")
+            what = self.files.read(n)
             got.append(("error", what) if self.buf[k : k + 1] == b"E" else ("plan", what, replans, tick))
         self.buf = self.buf[whole:]
-        if got:  # the plans read before this take are no longer mapped (the controller holds the newest)
+        if got:  # the plans before the last take's newest are no longer mapped (the controller holds one)
             self.put(_FREE, (float(self.read),))
             self.read = n
         return got
