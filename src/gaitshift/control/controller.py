@@ -40,6 +40,7 @@ from gaitshift.control.feedback import PlanShift, SwingContext
 from gaitshift.control.frames import MotorCommand, SensorFrame
 from gaitshift.control.initial_pose import initial_qpos
 from gaitshift.control.perception import Perceiver
+from gaitshift.control.plan_history import PlanHistory
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.control.reference import tick_reference
 from gaitshift.control.replanner import replanner
@@ -53,6 +54,7 @@ from gaitshift.errors import InputError, check_flag, number_in
 from gaitshift.robots.config import RobotConfig
 from gaitshift.robots.model import RobotModel, check_period, robot_model
 from gaitshift.trajectory.contract import OPEN_END, Trajectory
+from gaitshift.trajectory.window import first_index, index_at
 
 __all__ = ["Controller", "TickRecord"]
 
@@ -62,7 +64,7 @@ class TickRecord:
     """What the controller did at one tick.
 
     Attributes:
-        t: plan time, s; plan_index: the plan sample tracked.
+        t: plan time, s; plan_index: the plan sample tracked (the run's: in :meth:`Controller.whole_plan`).
         reference: the tick reference; info: the QP's result; shift: (3,) m plan shift of the step
         feedback; contact_ref: (2,) bool the plan's contact flags; estimate: the estimator's output
         (None for a model without an IMU).
@@ -106,6 +108,7 @@ class Controller:
         self.settings, self.robot, self.driver, self.traj = s, robot, driver, plan
         self.dt = robot.dt
         self.plan = PlanSamples.from_trajectory(plan, robot.robot.sole_size[0])
+        self.history = PlanHistory(plan)
         self.q0 = initial_qpos(robot, plan.com_pos[0], plan.foot_pos[0], self.plan.yaw[0])
         d = mujoco.MjData(robot.model)
         d.qpos[:] = self.q0
@@ -205,8 +208,14 @@ class Controller:
 
     @property
     def trajectory(self) -> Trajectory:
-        """The plan as known now (a driver extends and re-plans it)."""
+        """The plan as known now (a driver extends and re-plans it; a live driver's is a window of the run
+        from a second back, :mod:`gaitshift.trajectory.window`): a new object after each re-plan."""
         return self.traj
+
+    def whole_plan(self) -> Trajectory:
+        """The run's plan as tracked so far (:class:`~gaitshift.control.plan_history.PlanHistory`; put
+        together on each call)."""
+        return self.history.whole()
 
     def initial_qpos(self) -> np.ndarray:
         """The full configuration (nq,) in which the plan starts, at rest: the world starts there."""
@@ -278,7 +287,8 @@ class Controller:
         i = self._plan_index(tp, view)
         tau, ref, info = self._control(tp, i, view)
         self.state.sent(info.qdd)
-        rec = TickRecord(tp, i, ref, info, self.shift.shift.copy(), self.traj.contact[i], self.state.record)
+        at = i + first_index(self.traj)  # the run's sample
+        rec = TickRecord(tp, at, ref, info, self.shift.shift.copy(), self.traj.contact[i], self.state.record)
         self.record = rec
         return MotorCommand.torque(tau)
 
@@ -290,7 +300,7 @@ class Controller:
 
     def _planned_contact(self, tp: float) -> np.ndarray:
         """The plan's contact flags (2,) bool at plan time ``tp`` s (its last sample's past the end)."""
-        return np.asarray(self.traj.contact[min(round(tp / self.traj.dt), len(self.traj) - 1)])
+        return np.asarray(self.traj.contact[index_at(self.traj, tp)])
 
     def _check(self, frame: SensorFrame) -> None:
         """:class:`InputError` naming the first per-motor field of ``frame`` of the wrong size or not finite."""
@@ -307,7 +317,8 @@ class Controller:
             for new, samples in self.replan.step(tp, c.subtree_com[0].copy(), c.subtree_linvel[0]):
                 self.traj, self.plan = new, samples
                 self.sched.retarget(new, samples)
-        return min(round(tp / self.traj.dt), len(self.traj) - 1)
+                self.history.adopt(new, round(tp / new.dt))
+        return index_at(self.traj, tp)
 
     def _control(self, tp: float, i: int, view: StateView) -> tuple[np.ndarray, TickReference, TickInfo]:
         """Schedule, feedback, reference, QP on the view: the torques (nu,) N m, reference, QP result."""

@@ -7,8 +7,13 @@ reaches them. At every planning instant (the start of a step) the next step is p
 **measured** CoM position and velocity (:meth:`LocomotionGenerator.replan`), so footholds absorb what
 the robot did differently from the plan. The loop needs more than the current sample (swing targets,
 lift-off and touchdown times): the driver forks the generator (the emitted history is shared, not
-copied) and runs the fork two steps ahead; the fork's trajectory is the plan the loop tracks until
-the next planning instant.
+copied) and runs the fork a few planning instants ahead; the fork's trajectory is the plan the loop
+tracks until the next planning instant.
+
+That plan is a window of the run (:mod:`gaitshift.trajectory.window`): its samples from
+:data:`WINDOW_BACK` before the live generator's next sample to the end of the look-ahead, so that its
+cost and its size stay the same however long the run (the whole run's plan grew by 500 samples a second
+at 2 ms, and each re-plan copied and derived all of it: docs/deploy.md, "A plan of constant size").
 """
 
 from __future__ import annotations
@@ -22,13 +27,18 @@ from gaitshift.planners.locomotion.params import params_from_scenario
 from gaitshift.planners.locomotion.plan import script_of
 from gaitshift.scenario.facts import RobotFacts
 from gaitshift.trajectory.contract import DS, FLIGHT, OPEN_END, Trajectory
+from gaitshift.trajectory.window import index_at
 
-__all__ = ["LOOKAHEAD_STEPS", "LocomotionDriver"]
+__all__ = ["LOOKAHEAD_STEPS", "WINDOW_BACK", "LocomotionDriver"]
 
 #: planning instants the fork runs past the live generator
 LOOKAHEAD_STEPS = 3
 #: time allowed after the stop request for the ramp-down and the closing step, s
 STOP_ALLOWANCE = 20.0
+#: how far back the plan reaches from the live generator's next sample, s: past the tick that adopts
+#: it (a background re-plan comes up to ~90 ticks late, docs/deploy.md) and the current steps; a foot
+#: that stood longer keeps its foothold at the window's first sample (a stance foot does not move)
+WINDOW_BACK = 1.0
 
 
 class LocomotionDriver:
@@ -46,7 +56,7 @@ class LocomotionDriver:
             (docs/locomotion.md "Closed loop"): gains 0.5 and 1 fell in running.
 
     Attributes:
-        trajectory: the plan as known now (the emitted history and the look-ahead).
+        trajectory: the plan as known now: a window of the run (module docstring) to the look-ahead's end.
         replans: re-plans from a measured state made so far.
         duration_bound: an upper bound of the run's plan time, s (stop request + allowance).
         step_feedback: True when the loop's capture-point step feedback must stay on.
@@ -103,7 +113,7 @@ class LocomotionDriver:
             fork.advance(round(0.5 / fork.dt))
         else:
             fork.step()
-        traj = fork.trajectory()
+        traj = fork.trajectory(since=max(0, self.gen.tick_index - round(WINDOW_BACK / fork.dt)))
         traj.meta[OPEN_END] = not fork.finished  # a look-ahead that a later plan continues
         return traj
 
@@ -111,7 +121,7 @@ class LocomotionDriver:
         """Refresh the look-ahead when the live generator has planned a new step (the plan the loop
         tracks must contain it) or the plan is about to end (a live session standing still)."""
         g = self.gen
-        near_end = idx >= len(self.trajectory) - round(0.2 / g.dt) and not self._ended()
+        near_end = idx >= round(float(self.trajectory.t[-1]) / g.dt) - round(0.2 / g.dt) and not self._ended()
         if g.step_count == self._steps_seen and not near_end:
             return None
         self._steps_seen = g.step_count
@@ -151,7 +161,8 @@ class LocomotionDriver:
             return self._extend(idx)
         if not self._due(idx):
             return None
-        x_p, v_p = self.trajectory.com_pos[idx, :2], self.trajectory.com_vel[idx, :2]
+        j = index_at(self.trajectory, t)
+        x_p, v_p = self.trajectory.com_pos[j, :2], self.trajectory.com_vel[j, :2]
         x_m, v_m = np.asarray(com)[:2], np.asarray(com_vel)[:2]
         k = self.replan_gain
         g.replan(x_p + k * (x_m - x_p), v_p + k * (v_m - v_p))

@@ -21,6 +21,7 @@ import numpy as np
 
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.trajectory.contract import FLIGHT, Trajectory
+from gaitshift.trajectory.window import index_at
 
 
 @dataclass(frozen=True)
@@ -89,8 +90,7 @@ class FootScheduler:
         """The plan sample of the planned touchdown of ``side``'s current (or last) swing; the plan's last
         sample when the plan ends before it (a re-plan that comes late, off the tick: ``retarget`` then
         takes the new plan's touchdown)."""
-        traj = self.traj
-        return min(round(min(float(self.swing_end[side]), float(traj.t[-1])) / traj.dt), len(traj.t) - 1)
+        return index_at(self.traj, min(float(self.swing_end[side]), float(self.traj.t[-1])))
 
     def swing_progress(self, t: float, side: int) -> float:
         """u = (t - lift-off) / (planned touchdown - lift-off) of the current swing of ``side``; u > 1
@@ -119,9 +119,8 @@ class FootScheduler:
         self.stance[s] = False
         self.swing_start[s] = t
         self._set_landing(s, next_time(self.plan.land[s], t))
-        dt = self.traj.dt
-        j0 = round(t / dt)
-        j1 = round(min(self.swing_end[s], float(self.traj.t[-1])) / dt)
+        j0 = index_at(self.traj, t)
+        j1 = index_at(self.traj, min(self.swing_end[s], float(self.traj.t[-1])))
         self.swing_flight[s] = bool(np.any(self.traj.phase[j0 : j1 + 1] == FLIGHT))
         vel = self.traj.com_vel[j0 : j1 + 1, :2]
         self.swing_speed[s] = float(np.linalg.norm(vel.mean(axis=0))) if len(vel) else 0.0

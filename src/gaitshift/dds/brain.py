@@ -298,7 +298,7 @@ def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: flo
     if brain is None:
         return BrainSummary(code, reason, phase, wall_time=wall)
     s = brain.log.stats()
-    com = brain.ctrl.trajectory.com_pos
+    com = brain.ctrl.whole_plan().com_pos
     lags = np.asarray(getattr(brain.ctrl.replan, "lags", []), float)
     cmds = brain.commands
     return BrainSummary(

@@ -250,8 +250,9 @@ class _Run:
     def _result(self, n_done: int, wall: float, fell: bool, fall_time: float, reason: str) -> SimResult:
         arrays = {**self.log.arrays(n_done), **self.est_log.arrays(n_done), **self.map_log.arrays(n_done)}
         arrays |= self.scan_log.arrays() | self.foothold_log.arrays()
-        result = SimResult(arrays, fell, fall_time, reason, self._meta(n_done, wall), {})
-        result.metrics = summarize(result, self.ctrl.trajectory, self.world.plant.torque_limit)
+        plan = self.ctrl.whole_plan()
+        result = SimResult(arrays, fell, fall_time, reason, self._meta(n_done, wall), {}, plan)
+        result.metrics = summarize(result, plan, self.world.plant.torque_limit)
         result.metrics.update(sensing_metrics(result.arrays, self.ctrl.source))
         frames = self.ctrl.perceiver.frames if self.ctrl.perceiver is not None else 0
         sole = float(self.world.plant.robot.sole_size[0])

@@ -12,6 +12,7 @@ import numpy as np
 from gaitshift.common.atomic import atomic_path
 from gaitshift.common.jsonsafe import finite_json
 from gaitshift.errors import InputError
+from gaitshift.trajectory.contract import Trajectory
 
 
 @dataclass
@@ -26,7 +27,8 @@ class SimResult:
     :mod:`gaitshift.sim.log`; and, not per tick, the scans the controller fused ``scan_t``,
     ``scan_points``, ``scan_frame`` and the footholds each time the plan changed them ``footholds_t``,
     ``footholds``, ``footholds_side``, ``footholds_set``), ``fell``, ``fall_time`` (s; -1 when the robot
-    did not fall) and ``meta`` (strict JSON, with the metrics).
+    did not fall) and ``meta`` (strict JSON, with the metrics). ``plan``: the run's plan as the loop tracked
+    it (:meth:`gaitshift.control.controller.Controller.whole_plan`; not saved, None when loaded).
     """
 
     arrays: dict[str, np.ndarray]
@@ -35,6 +37,7 @@ class SimResult:
     fall_reason: str
     meta: dict[str, Any]
     metrics: dict[str, Any]
+    plan: Trajectory | None = None
 
     def save(self, path: str | Path) -> Path:
         """Write the run to ``path`` (.npz), atomically.

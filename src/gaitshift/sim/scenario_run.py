@@ -50,7 +50,10 @@ class ScenarioRun:
 
     @property
     def trajectory(self) -> Trajectory:
-        """The plan as finally re-planned from the measured states (the plan itself without a driver)."""
+        """The plan as finally re-planned from the measured states and tracked (the plan itself without a
+        driver)."""
+        if self.result.plan is not None:
+            return self.result.plan
         return self.driver.trajectory if self.driver is not None else self.plan
 
 

@@ -28,6 +28,7 @@ from gaitshift.scenario.commands import KEYS, LOCOMOTION_STEP, key_change
 from gaitshift.sim.loop import TickHook
 from gaitshift.sim.result import SimResult
 from gaitshift.sim.scenario_run import simulate_scenario
+from gaitshift.trajectory.window import index_at
 
 __all__ = ["Session", "run_session"]
 
@@ -116,8 +117,8 @@ class Session:
     def line(self, t: float, d: Any) -> str:
         """The status line: gait, measured CoM speed in the heading frame, heading, real-time factor."""
         gen = self.driver.gen
-        i = min(round(t / gen.dt), len(self.driver.trajectory) - 1)
         tr = self.driver.trajectory
+        i = index_at(tr, t)
         psi = float(tr.heading[i])
         v = d.subtree_linvel[0] if hasattr(d, "subtree_linvel") else np.zeros(3)
         vh = (math.cos(psi) * v[0] + math.sin(psi) * v[1], -math.sin(psi) * v[0] + math.cos(psi) * v[1])

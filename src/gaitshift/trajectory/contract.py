@@ -147,8 +147,12 @@ class Trajectory:
     # ----------------------------------------------------------------- convenience
     @property
     def dt(self) -> float:
-        """Sampling step, s."""
-        return float(self.t[1] - self.t[0])
+        """Sampling step, s: ``meta["dt"]`` where the planner wrote it (exact, also for a window far into a
+        run, :mod:`gaitshift.trajectory.window`), else ``t[1] - t[0]``."""
+        step, first = self.meta.get("dt"), float(self.t[1] - self.t[0])
+        if isinstance(step, float | int) and not isinstance(step, bool) and abs(step - first) <= 1e-6 * first:
+            return float(step)
+        return first
 
     @property
     def gravity(self) -> float:

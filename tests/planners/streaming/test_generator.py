@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from gaitshift.errors import InputError
+from gaitshift.planners.streaming import generator
 from gaitshift.planners.streaming.generator import StreamingGenerator
 from gaitshift.planners.streaming.samples import Samples
 
@@ -69,16 +70,27 @@ def test_events_carry_the_time_of_the_next_sample():
     assert (ev.t, ev.kind, ev.requested, ev.applied) == (0.03, "clamp_speed", 2.0, 1.0)
 
 
-def test_the_history_read_again_is_one_block_that_goes_on_in_order():
-    """A closed loop emits one tick at a time and reads the history at every step: it is merged into one
-    block once read, and what comes after joins it in order."""
+def test_the_history_read_again_merges_only_its_last_chunk_and_goes_on_in_order(monkeypatch):
+    """A closed loop emits one tick at a time and reads the history at every step: the blocks since the last
+    full chunk are merged into one once read (never the whole run again), and what comes after joins in
+    order; ``emitted(since)`` is the run from that sample on."""
+    monkeypatch.setattr(generator, "CHUNK", 5)
     gen = _Toy(period=4)
+    for _ in range(3):
+        gen.tick()
+    assert len(gen.history()) == 1
     for _ in range(9):
         gen.tick()
-    np.testing.assert_array_equal(gen.emitted().x, np.arange(9.0))
-    assert len(gen.history()) == 1
+    blocks = gen.history()
+    assert [len(b) for b in blocks] == [12]  # merged at one read: a chunk now, never copied again
+    first = blocks[0]
     gen.advance(3)
     gen.tick()
-    assert len(gen.history()) == 1
-    np.testing.assert_array_equal(gen.emitted().x, np.arange(13.0))
-    np.testing.assert_allclose(gen.emitted().t, np.arange(13) * 0.01)
+    blocks = gen.history()
+    assert blocks[0] is first and [len(b) for b in blocks] == [12, 4]
+    np.testing.assert_array_equal(gen.emitted().x, np.arange(16.0))
+    np.testing.assert_allclose(gen.emitted().t, np.arange(16) * 0.01)
+    for since in (0, 7, 12, 15):
+        np.testing.assert_array_equal(gen.emitted(since).x, np.arange(float(since), 16.0))
+    with pytest.raises(InputError, match="from sample 16 on"):
+        gen.emitted(16)

@@ -375,8 +375,9 @@ class LocomotionGenerator(StreamingGenerator):
         return copy.deepcopy(self, {id(b): b for b in self.history()})
 
     # ------------------------------------------------------------------ output
-    def trajectory(self) -> Trajectory:
-        """Everything emitted so far as the standard trajectory contract (planner "locomotion")."""
-        s = self.emitted()
+    def trajectory(self, since: int = 0) -> Trajectory:
+        """Everything emitted so far as the standard trajectory contract (planner "locomotion"); from the
+        run's sample ``since`` on: a window (:mod:`gaitshift.trajectory.window`)."""
+        s = self.emitted(since)
         meta = locomotion_meta(self.p, self.stiffness.as_dict(), [e.as_dict() for e in self.events])
         return trajectory_from(s, self.writer.footsteps, self.writer.bounds, meta)

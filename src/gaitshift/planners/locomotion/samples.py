@@ -38,14 +38,17 @@ def trajectory_from(
     bounds: list[int],
     meta: dict[str, Any],
 ) -> Trajectory:
-    """The trajectory file of the emitted samples ``s`` (planner "locomotion"): the footholds landed
-    on (x, y, z, yaw, side), the phase boundaries (sample indices) and the ``meta`` to write."""
+    """The trajectory file of the emitted samples ``s`` (planner "locomotion"; the run's samples from
+    ``s.t[0]`` on): the footholds landed on (x, y, z, yaw, side), the phase boundaries (the run's sample
+    indices) and the ``meta`` to write."""
     cols, cmd, t = s.cols, s.command, s.t
     dt = float(t[1] - t[0]) if len(t) > 1 else 0.0
     fs = np.array([f[:4] for f in footsteps], dtype=np.float64)
     side = np.array([f[4] for f in footsteps], dtype=np.int8)
     meta = {**meta, "step_types": {str(code): name for name, code in STEP_CODES.items()} | {"-1": "standing"}}
-    bt = np.array([b for b in bounds if b < len(t)] + [len(t) - 1], dtype=np.float64) * dt
+    first = round(float(t[0]) / dt) if dt > 0 else 0  # a window of the run (gaitshift.trajectory.window)
+    end = first + len(t)
+    bt = np.array([b for b in bounds if first <= b < end] + [end - 1], dtype=np.float64) * dt
     extras = {"step_index": cols["step"], "boundary_t": bt, "step_type": cols["step_type"]}
     return Trajectory(
         t=t,

@@ -23,6 +23,9 @@ __all__ = ["MAX_TICKS", "StreamingGenerator"]
 
 #: most control ticks one :meth:`StreamingGenerator.advance` call emits (1000 s at 1 ms)
 MAX_TICKS = 1_000_000
+#: samples a merged block of the history holds before the next one starts: a merge copies at most this
+#: many and what came since, never the whole run (8 s at 2 ms)
+CHUNK = 4096
 
 
 class StreamingGenerator(SampleClock, ABC):
@@ -41,6 +44,7 @@ class StreamingGenerator(SampleClock, ABC):
         self._i = 0
         self._next_plan: int | None = None
         self._blocks: list[Samples] = []
+        self._chunks = 0  # the leading blocks of the history that are full chunks (:data:`CHUNK`)
 
     @property
     @abstractmethod
@@ -92,22 +96,30 @@ class StreamingGenerator(SampleClock, ABC):
         """Advance one control period (dt); returns that one sample."""
         return self.advance(1)
 
-    def emitted(self) -> Samples:
-        """Every sample emitted so far, as one block.
+    def emitted(self, since: int = 0) -> Samples:
+        """The samples emitted so far from sample number ``since`` on (0: every one), as one block.
 
         Raises:
-            InputError: the history is not kept, or nothing was emitted yet.
+            InputError: the history is not kept, or nothing was emitted since ``since``.
         """
         if not self.keep_history:
             raise InputError("keep_history", False, "True to collect the trajectory")
-        if not self._blocks:
-            raise InputError("trajectory", "empty", "at least one emitted sample")
-        return self.history()[0]
+        out, start = [], 0
+        for b in self.history():
+            if start + len(b) > since:
+                out.append(b if start >= since else b.tail(since - start))
+            start += len(b)
+        if not out:
+            raise InputError("trajectory", "empty", f"at least one sample emitted from sample {since} on")
+        return Samples.concat(out)
 
     def history(self) -> list[Samples]:
-        """The kept blocks, merged into one and kept so (a later merge copies the one block and what came
-        since, instead of gathering every one-tick block of the run again: a closed loop's look-ahead
-        reads the history at every step)."""
-        if len(self._blocks) > 1:
-            self._blocks = [Samples.concat(self._blocks)]
-        return self._blocks
+        """The kept blocks: full chunks of :data:`CHUNK` samples or more, then the rest merged into one (a
+        merge copies the last chunk and what came since, instead of gathering every one-tick block of the
+        run again: a closed loop's look-ahead reads the history at every step)."""
+        blocks = self._blocks
+        if len(blocks) - self._chunks > 1:
+            blocks[self._chunks :] = [Samples.concat(blocks[self._chunks :])]
+        if blocks and len(blocks[-1]) >= CHUNK:
+            self._chunks = len(blocks)
+        return blocks

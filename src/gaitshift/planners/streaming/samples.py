@@ -46,6 +46,10 @@ class Samples:
             return cols[name]
         raise AttributeError(name)
 
+    def tail(self, k: int) -> Samples:
+        """The samples from the ``k``-th on (views, not copies)."""
+        return Samples(self.t[k:], {c: v[k:] for c, v in self.cols.items()}, self.command[k:])
+
     @staticmethod
     def concat(blocks: list[Samples]) -> Samples:
         """The blocks one after the other (the block itself when there is one)."""

@@ -1,0 +1,36 @@
+"""A live plan of constant size (gaitshift.control.locomotion_driver, gaitshift.control.plan_history): the
+driver hands the loop a window of the run that does not grow with it, and the windows, each taken from the
+tick that adopted it, put together give the plan the generator emitted, sample for sample."""
+
+import numpy as np
+
+from gaitshift.control.drivers import prepare
+from gaitshift.control.locomotion_driver import LOOKAHEAD_STEPS, WINDOW_BACK
+from gaitshift.control.plan_history import PlanHistory
+from gaitshift.trajectory.window import first_index, index_at
+
+DT = 0.002
+
+
+def test_a_long_live_run_is_tracked_on_windows_of_constant_size_that_join_to_the_emitted_plan():
+    sc = {"planner": "locomotion", "robot": "g1", "commands": [{"t": 0.0, "vx": 0.6}], "stop_at": 24.0}
+    _, _, driver, plan = prepare(sc, None, DT)
+    history, sizes = PlanHistory(plan), [len(plan)]
+    k = 0
+    while not driver.gen.finished:
+        t = k * DT
+        j = index_at(driver.trajectory, t)
+        new = driver.maybe_replan(t, driver.trajectory.com_pos[j], driver.trajectory.com_vel[j])
+        if new is not None:
+            assert first_index(new) <= k  # the tick that adopts it is inside it
+            history.adopt(new, k)
+            sizes.append(len(new))
+        k += 1
+    whole = history.whole()
+    emitted = driver.gen.emitted()
+    assert len(emitted) > 12_000  # the run: 24 s of walking and the stop
+    # each window: a second back and the look-ahead (a few steps of the G1, < 0.5 s each)
+    assert max(sizes) <= round(WINDOW_BACK / DT) + LOOKAHEAD_STEPS * round(1.0 / DT)
+    for key in ("t", "com_pos", "com_vel", "zmp", "phase", "contact", "foot_pos", "heading"):
+        np.testing.assert_array_equal(getattr(whole, key)[: len(emitted)], getattr(emitted, key), err_msg=key)
+    np.testing.assert_array_equal(whole.footsteps, driver.trajectory.footsteps)
