@@ -55,7 +55,8 @@ def cut(traj: Trajectory, start: int, stop: int | None = None) -> dict[str, np.n
     first = first_index(traj)
     i0 = min(max(start - first, 0), len(traj))
     i1 = len(traj) if stop is None else min(max(stop - first, i0), len(traj))
-    out = {k: np.array(v[i0:i1]) for k, v in traj.arrays().items() if k in _per_sample(traj)}
+    keys = _per_sample(traj)
+    out = {k: np.array(v[i0:i1]) for k, v in traj.arrays().items() if k in keys}
     bt = traj.extras.get(_BOUNDARIES)
     if bt is not None:
         lo, hi = (first + i0 - 0.5) * traj.dt, (first + i1 - 0.5) * traj.dt
@@ -73,7 +74,7 @@ def window(traj: Trajectory, start: int, stop: int | None = None) -> Trajectory:
     """The samples of ``traj`` from the run's sample ``start`` up to (not including) ``stop`` (None: the
     end) as a plan (at least two samples: the window is widened backwards when needed)."""
     first = first_index(traj)
-    end = len(traj) + first if stop is None else min(stop, len(traj) + first)
+    end = len(traj) + first if stop is None else min(max(stop, first + 2), len(traj) + first)
     return _whole(cut(traj, min(start, end - 2), end), traj)
 
 
