@@ -4,10 +4,11 @@ tick that adopted it, put together give the plan the generator emitted, sample f
 
 import numpy as np
 
+import gaitshift
 from gaitshift.control.drivers import prepare
 from gaitshift.control.locomotion_driver import LOOKAHEAD_STEPS, WINDOW_BACK
 from gaitshift.control.plan_history import PlanHistory
-from gaitshift.trajectory.window import first_index, index_at
+from gaitshift.trajectory.window import first_index, index_at, window
 
 DT = 0.002
 
@@ -34,3 +35,18 @@ def test_a_long_live_run_is_tracked_on_windows_of_constant_size_that_join_to_the
     for key in ("t", "com_pos", "com_vel", "zmp", "phase", "contact", "foot_pos", "heading"):
         np.testing.assert_array_equal(getattr(whole, key)[: len(emitted)], getattr(emitted, key), err_msg=key)
     np.testing.assert_array_equal(whole.footsteps, driver.trajectory.footsteps)
+
+
+def test_a_plan_adopted_after_the_last_one_ended_takes_over_where_it_stopped():
+    """A background re-plan that comes late: the loop held the last plan's last sample; the history takes the
+    new plan from the old one's end, so the run's plan has no gap (and two plans at one tick, none lost)."""
+    sc = gaitshift.load_scenario({"gait": [{"gait": "walk", "steps": 3}], "dt": 0.01})
+    traj = gaitshift.plan(sc)
+    history = PlanHistory(window(traj, 0, 100))
+    history.adopt(window(traj, 40, 200), 130)  # came 30 samples after the first plan's end
+    history.adopt(window(traj, 150), 180)
+    history.adopt(window(traj, 160), 180)  # two at one tick
+    whole = history.whole()
+    for key in ("t", "com_pos", "contact", "foot_pos"):
+        np.testing.assert_array_equal(getattr(whole, key), getattr(traj, key), err_msg=key)
+    np.testing.assert_array_equal(whole.extras["boundary_t"], traj.extras["boundary_t"])
