@@ -42,7 +42,7 @@ def trajectory_from(
     ``s.t[0]`` on): the footholds landed on (x, y, z, yaw, side), the phase boundaries (the run's sample
     indices) and the ``meta`` to write."""
     cols, cmd, t = s.cols, s.command, s.t
-    dt = float(t[1] - t[0]) if len(t) > 1 else 0.0
+    dt = float(meta.get("dt", t[1] - t[0] if len(t) > 1 else 0.0))  # the planner's step: exact far into a run
     fs = np.array([f[:4] for f in footsteps], dtype=np.float64)
     side = np.array([f[4] for f in footsteps], dtype=np.int8)
     meta = {**meta, "step_types": {str(code): name for name, code in STEP_CODES.items()} | {"-1": "standing"}}
