@@ -136,6 +136,7 @@ class Controller:
             s.assumed_friction,
             contact_source(s.contact, robot.robot),
             s.floor,
+            s.position_tau,
         )
         self.record: TickRecord | None = None
         cam = robot.robot.sensors.depth_camera

@@ -69,6 +69,7 @@ from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import FootForces, ImuReading, JointReading
 from gaitshift.control.frames import SensorFrame
 from gaitshift.control.initial_pose import sensed_start
+from gaitshift.control.position_filter import PositionFilter
 from gaitshift.control.prediction import LatencyPredictor
 from gaitshift.errors import InputError
 from gaitshift.robots.model import RobotModel
@@ -170,6 +171,8 @@ class ControllerState:
             :mod:`~gaitshift.control.estimation.torque_contact`).
         floor: the height, m, of a flat floor known under the robot (a measurement of the estimator,
             :mod:`~gaitshift.control.estimation.floor`); None: unknown.
+        position_tau: s, the time constant of the horizontal position the controller acts on
+            (:mod:`~gaitshift.control.position_filter`; 0: the estimate's as it is).
     """
 
     def __init__(
@@ -183,8 +186,10 @@ class ControllerState:
         assumed_friction: float | None,
         contact: str = "torque",
         floor: float | None = None,
+        position_tau: float = 0.0,
     ) -> None:
         m = robot.model
+        self.position = PositionFilter(position_tau)  # what the controller acts on: eq. (1) there
         self.robot, self.oracle = robot, oracle
         self.qpos0 = np.asarray(qpos0, float).copy()
         self.cmodel = copy.copy(m)
@@ -260,6 +265,7 @@ class ControllerState:
             q_est, v_est = self.start, np.zeros(self.robot.model.nv)
             touch_est, slip_est, com, com_vel, cost = np.ones(2, bool), np.zeros(2, bool), None, None, 0.0
             fused, landing = touch_est, np.zeros(2, bool)
+            self.position.reset(q_est)
         else:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
             self._bridge(frame, imu, planned, since)
@@ -274,7 +280,9 @@ class ControllerState:
         if self.oracle:
             self._acted = self._oracle(frame)
         else:
-            self._acted = (q_est, v_est, touch_est | landing, slip_est)
+            q_act = q_est.copy()
+            q_act[:2] = self.position.step(q_est, v_est, frame.t - since)
+            self._acted = (q_act, v_est, touch_est | landing, slip_est)
         if com is None or com_vel is None:  # the first tick: the start state's, as the controller's data holds it
             c = self._view(q_est, v_est, touch_est, slip_est, 0).data
             com, com_vel = c.subtree_com[0].copy(), c.subtree_linvel[0].copy()
