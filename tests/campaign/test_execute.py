@@ -74,4 +74,6 @@ def test_the_contact_axis_reaches_the_controller_and_the_rows_carry_the_estimate
     for row in rows.values():
         assert row["error"] is None and not row["fell"], row
         assert 0.5 < row["contact_accuracy"] <= 1.0 and row["base_vel_rmse"] < 0.05 and row["tilt_rmse"] < 0.01
-    assert rows["force"]["contact_accuracy"] != rows["torque"]["contact_accuracy"]
+    # a continuous measure of the estimate: two runs whose contacts came from different sensing differ in it
+    # (the contact scores are ratios of tick counts, which two short walks can share)
+    assert rows["force"]["base_vel_rmse"] != rows["torque"]["base_vel_rmse"]
