@@ -56,8 +56,8 @@ class ControllerSettings:
             estimate's velocity integrated and pulled to its position (:mod:`~gaitshift.control.position_filter`,
             eq. (1)); 0: the estimate's position, kicked by its corrections. The G1's 10-minute soak in one
             process, seed 0 / 1: falls at 141.5 / 112.7 s with 0, at 200.9 / 409.6 s with 2 s, at 289.4 s
-            (seed 0) with 5 s; holds to its end with 20 s (docs/deploy.md, "The estimate's position, kicked
-            by its corrections").
+            (seed 0) with 5 s; holds to its end with 20 s (seeds 0-2; with a tick of latency, one seed of
+            three: docs/deploy.md, "The estimate's position, kicked by its corrections").
     """
 
     gains: Gains | None = None
