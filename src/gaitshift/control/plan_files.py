@@ -1,12 +1,13 @@
 """A plan handed from the planner's process to the controller's through a file, its arrays mapped, not copied.
 
-A live plan holds every sample from the start of the run (the locomotion driver's look-ahead): 6 000
-samples 12 s into the G1 tour, 71 000 at 140 s of the soak. Unpickled in the tick that adopts it, its
-arrays are read and copied whole: that tick grew with the run (1.8 ms p50 against 0.8 ms for a tick
-without a plan, 12 s into the tour). Here the worker writes the plan with pickle protocol 5, its arrays'
-bytes out of band after the pickle (each on a 64-byte boundary); the tick maps the file copy-on-write
-and hands pickle the mapped buffers, so that the arrays are views of the mapping: the pages a tick reads
-are loaded as it reads them (the plan's current stretch), whatever the plan's length. The mapping lives
+Unpickled in the tick that adopts it, a plan's arrays are read and copied whole, and the tick pays for the
+plan's whole length (measured when a live plan still held every sample from the start of the run: 1.8 ms
+p50 against 0.8 ms for a tick without a plan, 12 s into the G1 tour; a live plan is now a window of at
+most ~1 400 samples, :mod:`gaitshift.trajectory.window`, and a TV-LIPM or VHIP plan is the whole run).
+Here the worker writes the plan with pickle protocol 5, its arrays' bytes out of band after the pickle
+(each on a 64-byte boundary); the tick maps the file copy-on-write and hands pickle the mapped buffers,
+so that the arrays are views of the mapping: the pages a tick reads are loaded as it reads them (the
+plan's current stretch), whatever the plan's length. The mapping lives
 as long as an array of the plan does. The reader leaves the file: unmapping a file that is still there
 only drops the pages the tick touched, while the last unmapping of a removed file frees all its pages
 (5 ms for a 43 MB plan, 21 ms for 180 MB, in the tick that let the old plan go); the writer's side

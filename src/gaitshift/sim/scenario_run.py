@@ -50,11 +50,9 @@ class ScenarioRun:
 
     @property
     def trajectory(self) -> Trajectory:
-        """The plan as finally re-planned from the measured states and tracked (the plan itself without a
-        driver)."""
-        if self.result.plan is not None:
-            return self.result.plan
-        return self.driver.trajectory if self.driver is not None else self.plan
+        """The run's plan as the loop tracked it (:attr:`SimResult.plan`: with a driver, its windows joined);
+        the plan itself for a result that carries none."""
+        return self.result.plan if self.result.plan is not None else self.plan
 
 
 def scenario_options(scenario: Any) -> dict[str, Any]:
