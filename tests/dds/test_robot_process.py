@@ -138,7 +138,9 @@ def test_the_gantry_holds_the_world_still_until_the_first_valid_command(tmp_path
         while len(moved) < 100 and proc.poll() is None and time.monotonic() < deadline:
             if not controller.wait(0.05):
                 continue
-            for state in controller.take():
+            for state in controller.take():  # a take may bring several states: stop at the 100th moved
+                if len(moved) == 100:
+                    break
                 frame = frame_from_lowstate(state, state.tick * 0.002, N)
                 if len(held) < 50:  # no command yet, then a corrupt one: the world must not move
                     held.append(frame.q)
