@@ -79,6 +79,30 @@ def _one_dds_worker(request, tmp_path_factory):
         assert first == worker, f"DDS tests ran in {first} and {worker}: their domains may collide (tests/conftest.py)"
 
 
+class WorkBegan(AssertionError):
+    """Raised by :func:`no_work`'s stand-ins: a command began a simulation, an IK solve or a campaign."""
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    """Physics steps, IK solves and Dask clusters raise :class:`WorkBegan`: a command refused "before any
+    work" is proved so by what it calls, not by a wall clock."""
+    import distributed
+    import mink
+    import mujoco
+
+    def began(what):
+        def stand_in(*args, **kwargs):
+            raise WorkBegan(f"{what} was called before the refusal")
+
+        return stand_in
+
+    monkeypatch.setattr(mujoco, "mj_step", began("mujoco.mj_step"))
+    monkeypatch.setattr(mink, "solve_ik", began("mink.solve_ik"))
+    monkeypatch.setattr(distributed, "LocalCluster", began("distributed.LocalCluster"))
+    monkeypatch.setattr(distributed, "Client", began("distributed.Client"))
+
+
 @pytest.fixture
 def cli(capsys):
     """``cli(argv) -> (exit code, stdout, stderr)`` of ``gaitshift argv`` run in-process; any exception

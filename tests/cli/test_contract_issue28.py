@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 import shutil
-import time
 from pathlib import Path
 
 import numpy as np
@@ -121,8 +120,7 @@ def test_a_sensor_frame_takes_a_huge_integer_time_and_refuses_nan():
     assert info.value.field == "SensorFrame.t"
 
 
-def test_simulate_and_animate_name_their_flags_before_any_work(cli, tmp_path):
-    start = time.perf_counter()
+def test_simulate_and_animate_name_their_flags_before_any_work(cli, tmp_path, no_work):
     sim = ["simulate", "g1-walk", "--out", str(tmp_path / "s.npz")]
     _one_line(cli([*sim, "--control-period", "0"]), "--control-period")
     (tmp_path / "F").write_text("x")
@@ -133,7 +131,6 @@ def test_simulate_and_animate_name_their_flags_before_any_work(cli, tmp_path):
     _one_line(cli(["animate", str(plan), "--joints", str(tmp_path / "j.npz"), "--out", out]), "--joints")
     _one_line(cli(["animate", str(plan), "--fps", "0", "--out", out]), "--fps")
     _one_line(cli(["animate", str(plan), "--width", "641", "--out", out]), "--width/--height")
-    assert time.perf_counter() - start < 20  # no simulation, no IK
     assert sorted(p.name for p in tmp_path.iterdir()) == ["F", "j.npz", "p.npz"]
 
 
