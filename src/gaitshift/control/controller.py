@@ -137,6 +137,7 @@ class Controller:
             contact_source(s.contact, robot.robot),
             s.floor,
             s.position_tau,
+            s.stance_point,
         )
         self.record: TickRecord | None = None
         cam = robot.robot.sensors.depth_camera

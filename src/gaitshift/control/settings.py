@@ -23,7 +23,10 @@ from gaitshift.scenario.sim_settings import (
     check_friction,
 )
 
-__all__ = ["CONTACT_SOURCES", "ControllerSettings", "contact_source"]
+__all__ = ["CONTACT_SOURCES", "STANCE_POINTS", "ControllerSettings", "contact_source"]
+
+#: the points of a stance sole the estimator may take as still (:attr:`ControllerSettings.stance_point`)
+STANCE_POINTS = ("cop", "centre")
 
 
 @dataclass(frozen=True)
@@ -58,6 +61,10 @@ class ControllerSettings:
             process, seed 0 / 1: falls at 141.5 / 112.7 s with 0, at 200.9 / 409.6 s with 2 s, at 289.4 s
             (seed 0) with 5 s; holds to its end with 20 s (seeds 0-2; with a tick of latency, one seed of
             three: docs/deploy.md, "The estimate's position, kicked by its corrections").
+        stance_point: the point of a stance sole the estimator takes as still, with contact from the
+            torques: ``"cop"`` (its centre of pressure, eq. (4) of
+            :mod:`~gaitshift.control.estimation.torque_contact`) or ``"centre"`` (the sole's centre);
+            docs/deploy.md, "The stance point at the centre of pressure".
     """
 
     gains: Gains | None = None
@@ -75,6 +82,7 @@ class ControllerSettings:
     replan: str = "inline"
     floor: float | None = None
     position_tau: float = 20.0
+    stance_point: str = "cop"
 
     def __post_init__(self) -> None:
         if self.state is not None and self.state not in STATE_SOURCES:
@@ -96,6 +104,8 @@ class ControllerSettings:
         if self.replan not in REPLAN_MODES:
             raise InputError("replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
         number_in("position_tau", self.position_tau, POSITION_TAU_RANGE, "s")
+        if self.stance_point not in STANCE_POINTS:
+            raise InputError("stance_point", self.stance_point, "one of: " + ", ".join(STANCE_POINTS))
 
     @classmethod
     def of(cls, **given: Any) -> ControllerSettings:

@@ -173,6 +173,8 @@ class ControllerState:
             :mod:`~gaitshift.control.estimation.floor`); None: unknown.
         position_tau: s, the time constant of the horizontal position the controller acts on
             (:mod:`~gaitshift.control.position_filter`; 0: the estimate's as it is).
+        stance_point: ``"cop"``: with contact from the torques, the estimator's stance points at the soles'
+            centres of pressure; ``"centre"``: at the soles' centres (:attr:`ControllerSettings.stance_point`).
     """
 
     def __init__(
@@ -187,8 +189,10 @@ class ControllerState:
         contact: str = "torque",
         floor: float | None = None,
         position_tau: float = 0.0,
+        stance_point: str = "centre",
     ) -> None:
         m = robot.model
+        self.stance_point = stance_point
         self.position = PositionFilter(position_tau)  # what the controller acts on: eq. (1) there
         self.robot, self.oracle = robot, oracle
         self.qpos0 = np.asarray(qpos0, float).copy()
@@ -270,7 +274,7 @@ class ControllerState:
             imu = ImuReading(gyro=frame.imu_gyro, accel=frame.imu_acc)
             self._bridge(frame, imu, planned, since)
             joints = JointReading(q=frame.q, qd=frame.dq)
-            forces = FootForces(normal=self._sole_forces(frame))
+            forces = self._sole_forces(frame)
             t0 = time.perf_counter()
             s = self.estimator.step(imu, joints, forces, planned)
             cost = 1e6 * (time.perf_counter() - t0)
@@ -296,29 +300,31 @@ class ControllerState:
         gap = min(round((frame.t - since) / dt), MAX_BRIDGE + 1)
         for j in range(gap - 1, 0, -1):
             joints = JointReading(q=frame.q - j * dt * frame.dq, qd=frame.dq)
-            s = self.estimator.step(imu, joints, FootForces(normal=self._sole_forces(frame)), planned)
+            s = self.estimator.step(imu, joints, self._sole_forces(frame), planned)
             self._measured = (s.qpos(), s.qvel())
 
-    def _sole_forces(self, frame: SensorFrame) -> np.ndarray:
+    def _sole_forces(self, frame: SensorFrame) -> FootForces:
         """The sole normal forces (2,) N the contact detector reads: the frame's foot force, or eq. (2)
-        of :mod:`~gaitshift.control.estimation.torque_contact` on the last tick's state."""
+        of :mod:`~gaitshift.control.estimation.torque_contact` on the last tick's state with the soles'
+        centres of pressure (eq. (4)), the filter's stance points."""
         if self.torque_contact is not None:
             return self._torque_forces(frame.tau_est)
         if frame.foot_force is None:
             allowed = "the sole normal forces, N (or a controller with contact='torque')"
             raise InputError("SensorFrame.foot_force", None, allowed)
-        return frame.foot_force
+        return FootForces(normal=frame.foot_force)
 
-    def _torque_forces(self, tau_est: np.ndarray) -> np.ndarray:
-        """Eq. (2) of :mod:`~gaitshift.control.estimation.torque_contact` at the centre of the last
+    def _torque_forces(self, tau_est: np.ndarray) -> FootForces:
+        """Eqs. (2) and (4) of :mod:`~gaitshift.control.estimation.torque_contact` at the centre of the last
         ``2 n + 1`` ticks (:class:`~gaitshift.control.estimation.torque_contact.AccelerationWindow`)."""
         window, contact = self._window, self.torque_contact
         assert window is not None and contact is not None
         window.push(*self._measured, tau_est)
         if not window.full:
-            return self._force0.copy()
+            return FootForces(normal=self._force0.copy())
         d = window.centre_data(self.robot.model)
-        return contact.normal_forces(d, window.mean_torque(), window.acceleration())
+        normal, cop = contact.sole_loads(d, window.mean_torque(), window.acceleration())
+        return FootForces(normal=normal, cop=cop if self.stance_point == "cop" else None)
 
     def sent(self, qdd: np.ndarray | None) -> None:
         """The command just sent planned the accelerations ``qdd`` (nv,) (None: the QP failed)."""

@@ -97,3 +97,47 @@ def test_constant_rate_for_one_second_is_the_exponential(name):
     expected = Rotation.from_rotvec(w * 1.0).as_matrix()
     assert np.linalg.norm(Rotation.from_matrix(state.rot @ expected.T).as_rotvec()) < 1e-9
     assert np.linalg.norm(state.vel) < 1e-6  # the gravity reaction cancels g
+
+
+def _pitch(theta: float) -> np.ndarray:
+    return Rotation.from_rotvec([0.0, theta, 0.0]).as_matrix()
+
+
+def _rolling_feet(t: float, point: np.ndarray, r: np.ndarray, rate: float) -> FootKinematics:
+    """The left sole rolling in pitch at ``rate`` rad/s about its sole-frame point ``r``, which stays at
+    ``point`` (IMU frame): the centre at ``point - R_f r``; the right sole still and flat."""
+    rot_f = _pitch(rate * t)
+    centre = point - rot_f @ r
+    rots = np.stack([rot_f, np.eye(3)])
+    vel = np.stack([-np.cross([0.0, rate, 0.0], rot_f @ r), np.zeros(3)])
+    return FootKinematics(pos=np.stack([centre, RIGHT]), vel=vel, var=np.zeros(2), rot=rots, rot_var=np.zeros(2))
+
+
+@pytest.mark.parametrize(("placed", "still"), [(True, True), (False, False)])
+def test_a_sole_rolling_about_its_centre_of_pressure_leaves_a_still_base_still(placed, still):
+    """A still base on a sole that rolls 0.15 rad about its toe (the CoP 8 cm ahead of the centre): with
+    the stance point at the CoP the base reads still; at the sole's centre it reads the centre's motion
+    (about 2.4 cm/s, the "under-read" of a rolling running sole)."""
+    toe, point, rate = np.array([0.08, 0.0, 0.0]), FOOT + np.array([0.08, 0.0, 0.0]), 0.3
+    imu = ImuReading(gyro=np.zeros(3), accel=np.array([0.0, 0.0, G]))
+    f = InvariantEKF(RIGID)
+    f.reset(np.eye(3), np.zeros(3))
+    for k in range(251):  # 0.5 s
+        if placed:
+            f.place_contacts(np.array([toe[0:2], [np.nan, np.nan]]))
+        state = f.step(imu, _rolling_feet(k * DT, point, toe, rate), LEFT_DOWN, DT)
+    assert (np.linalg.norm(state.vel) < 1e-3 and np.linalg.norm(state.pos) < 1e-3) == still, state.vel
+
+
+def test_a_centre_of_pressure_moving_on_a_still_sole_moves_nothing():
+    """Both soles still and flat; the left one's CoP sweeps from heel to toe (16 cm in 0.5 s) and the right
+    one's stays off centre: the stored points move with the CoP, so the base stays where it is, at rest."""
+    imu = ImuReading(gyro=np.zeros(3), accel=np.array([0.0, 0.0, G]))
+    f = InvariantEKF(RIGID)
+    f.reset(np.eye(3), np.zeros(3))
+    for k in range(251):
+        cop = np.array([[-0.08 + 0.16 * k / 250, 0.01], [0.02, -0.02]])
+        f.place_contacts(cop)
+        state = f.step(imu, _feet(FOOT), BOTH_DOWN, DT)
+    assert np.linalg.norm(state.vel) < 1e-6
+    assert np.linalg.norm(state.pos) < 1e-6

@@ -86,6 +86,23 @@ def test_eq2_gives_back_the_qp_forces_at_rest(ctrl):
     assert f.sum() == pytest.approx(weight, rel=0.02)
 
 
+def test_eq4_gives_back_the_qp_centres_of_pressure_at_rest(ctrl):
+    """The QP's solution satisfies eq. (1) with its torques, accelerations and contact wrenches, so eq. (4)
+    on those torques and accelerations gives back the centres of pressure of the QP's wrenches (level
+    soles at rest: the sole frames are the world's axes), inside the soles."""
+    from gaitshift.control.frames import OracleState
+
+    c = Controller.from_scenario("g1-walk", state="oracle")
+    q0, nv = c.initial_qpos(), c.robot.model.nv
+    still = OracleState(q0, np.zeros(nv), np.ones(2, bool), np.zeros((2, 2)))
+    cmd = c.tick(SensorFrame(**{**_frame(c, 0.0, q0, np.zeros(nv)).__dict__, "oracle": still}))
+    info = c.record.info
+    _, cop = TorqueContact(c.robot).sole_loads(c.state.cdata, cmd.tau, info.qdd)
+    for s in (0, 1):
+        np.testing.assert_allclose(cop[s], info.cop_offset(s), atol=1e-5)
+    assert np.all(np.abs(cop) <= 0.5 * np.asarray(c.robot.robot.sole_size))
+
+
 def test_a_robot_in_the_air_reads_no_sole_force(ctrl):
     """Random torques and velocities with nothing on the soles: eq. (2) on MuJoCo's forward-dynamics
     accelerations reads zero on both soles. The joints' dry friction (a constraint force eq. (1) leaves
@@ -98,8 +115,9 @@ def test_a_robot_in_the_air_reads_no_sole_force(ctrl):
     d.ctrl[:] = tau
     mujoco.mj_forward(m, d)  # contacts: none (no floor in the controller's model)
     qdd = d.qacc.copy()
-    f = TorqueContact(robot).normal_forces(d, tau, qdd)
+    f, cop = TorqueContact(robot).sole_loads(d, tau, qdd)
     np.testing.assert_allclose(f, 0.0, atol=1e-6)
+    assert np.isnan(cop).all()  # no load, no centre of pressure
     d2 = mujoco.MjData(ctrl.robot.model)  # the model as shipped: 0.3 N m of dry friction per leg joint
     d2.qpos[:], d2.qvel[:], d2.ctrl[:] = d.qpos, d.qvel, tau
     mujoco.mj_forward(ctrl.robot.model, d2)

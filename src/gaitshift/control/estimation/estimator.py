@@ -237,7 +237,10 @@ class StateEstimator:
         self, imu: ImuReading, joints: JointReading, forces: FootForces, planned: np.ndarray | None = None
     ) -> EstimatedState:
         """One tick: readings in, the estimated state out (module docstring); ``planned`` (2,) bool: the
-        contact flags of the controller's plan at this tick (None: the contact flags ignore the plan)."""
+        contact flags of the controller's plan at this tick (None: the contact flags ignore the plan);
+        ``forces.cop``, when given, places the filter's stance points (:meth:`BaseFilter.place_contacts`)."""
+        if forces.cop is not None:
+            self.filter.place_contacts(forces.cop)
         if self._compiled is not None:
             return self._compiled.step(imu, joints, forces, planned)
         normal = forces.normal.tolist()

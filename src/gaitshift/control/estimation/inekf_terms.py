@@ -1,6 +1,7 @@
 """Pieces of the invariant EKF's algebra (:mod:`gaitshift.control.estimation.inekf`): a writable view
-of a matrix diagonal, the covariance's change when the positions' origin moves, and the buffers of a
-correction for one set of measured feet (its ``H^T`` rows as in the filter's module docstring).
+of a matrix diagonal, the covariance's change when the positions' origin moves, the feet at their stance
+points, and the buffers of a correction for one set of measured feet (its ``H^T`` rows as in the
+filter's module docstring).
 
 State order of the error xi (as in :mod:`gaitshift.control.estimation.inekf`): rotation (0:3), velocity
 (3:6), position (6:9), the two contact points d_L, d_R (9:15), with flat feet their orientations Z_L,
@@ -9,15 +10,38 @@ Z_R (15:21), then the biases.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from gaitshift.control.estimation.lie import SKEW
+from gaitshift.control.estimation.types import FootKinematics
 
 
 def diagonal_view(a: np.ndarray) -> np.ndarray:
     """Writable view (n,) of the diagonal of a square C-contiguous array (n, n)."""
     n = a.shape[0]
     return np.lib.stride_tricks.as_strided(a, shape=(n,), strides=((n + 1) * a.itemsize,))
+
+
+def at_points(
+    feet: FootKinematics,
+    rot: np.ndarray,
+    stored: np.ndarray,
+    in_state: list[bool],
+    points: np.ndarray,
+    used: np.ndarray,
+) -> FootKinematics:
+    """``feet`` with each sole's position at its stance point ``y_c + R_f r_i`` (``points`` (2, 3): ``r_i`` in
+    the sole frames); in place, the stored points ``stored`` (2, 3) of the soles ``in_state`` moved by
+    ``R R_f (r_i - r_used)`` (``rot``: R; :mod:`~gaitshift.control.estimation.inekf`, "The stance point"),
+    and ``used`` set to ``points``."""
+    moved = np.einsum("sij,sj->si", feet.rot, points - used)
+    for i in (0, 1):
+        if in_state[i]:
+            stored[i] += rot @ moved[i]
+    used[...] = points
+    return replace(feet, pos=feet.pos + np.einsum("sij,sj->si", feet.rot, points))
 
 
 def move_origin(cov: np.ndarray, c: np.ndarray) -> None:

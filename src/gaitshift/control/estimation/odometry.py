@@ -66,6 +66,10 @@ class LegOdometry:
         self._bias[:] = 0.0 if gyro_bias is None else gyro_bias.bias
         self._anchored = [False, False]
 
+    def place_contacts(self, cop: np.ndarray) -> None:
+        """Leg odometry keeps each stance sole at its centre: its velocity blend reads the centre's velocity
+        ``J(q) qd``, the only one the kinematics give; ``cop`` is not used (the InEKF uses it)."""
+
     def step(self, imu: ImuReading, feet: FootKinematics, contact: np.ndarray, dt: float) -> BaseState:
         """One tick: attitude, then velocity and position from the stance feet (module docstring)."""
         rot, vp, omega, _ = self.advance(imu, feet, contact, dt)

@@ -33,6 +33,18 @@ constraint force (1) leaves out: 0.3 N m per G1 leg joint, about 1 N on a sole) 
 of the measured accelerations; the estimator's contact trigger and fusion take it as a force signal
 (:mod:`gaitshift.control.estimation.contact_fusion`).
 
+The same wrench gives each sole's centre of pressure. With ``f``, ``m`` the force and the moment about the
+sole's centre in the sole frame (``R_s^T f_i``), the point of the sole plane about which the moment has no
+horizontal part is
+
+.. math::
+
+    r = \\left(\\operatorname{clip}(-m_y / f_z, \\pm L/2),\\ \\operatorname{clip}(m_x / f_z, \\pm W/2)\\right)   (4)
+
+(``L`` x ``W`` the sole size), given where the sole carries at least :data:`COP_MIN_LOAD` of the robot's
+weight (a lighter load's moment is mostly the foot's own dynamics and the torque readings' error). The
+estimator takes it as the stance point of the sole (:mod:`~gaitshift.control.estimation.inekf`).
+
 The encoders' noise reaches the force through the accelerations. The joint filter's angle (per joint,
 ``x_{k+1} = A x_k + K z_k``, ``x = [q, qd]``, readings of covariance ``R_z``) is stationary with the
 covariance ``S = A S A^T + K R_z K^T`` and the autocovariance ``R(m) = (A^m S)_qq``, so the window's
@@ -60,7 +72,10 @@ from scipy.linalg import solve_discrete_lyapunov
 
 from gaitshift.errors import InputError
 
-__all__ = ["AccelerationWindow", "TorqueContact", "second_difference_variance"]
+__all__ = ["COP_MIN_LOAD", "AccelerationWindow", "TorqueContact", "second_difference_variance"]
+
+#: share of the robot's weight a sole must carry for its centre of pressure (eq. (4)) to be given
+COP_MIN_LOAD = 0.15
 
 
 def second_difference_variance(transition: np.ndarray, gain: np.ndarray, reading_cov: np.ndarray, n: int) -> float:
@@ -102,6 +117,8 @@ class TorqueContact:
         if any(len(legs) < 3 for legs in self.legs):
             raise InputError("robot.soles", [len(legs) for legs in self.legs], "legs of at least 3 joints each")
         self.actuated = np.asarray(robot.actuated_dofs)
+        self.half_sole = 0.5 * np.asarray(robot.robot.sole_size, float)  # (L/2, W/2), m
+        self.min_load = COP_MIN_LOAD * float(m.body_mass.sum()) * float(np.linalg.norm(m.opt.gravity))
         self._jac = np.zeros((6, m.nv))
         self._r = np.zeros(m.nv)
         self._ma = np.zeros(m.nv)
@@ -110,6 +127,11 @@ class TorqueContact:
         """Normal force (2,) N on each sole from ``data`` (the controller's ``MjData`` after
         ``mj_forward``: ``qfrc_bias`` and the frames), the motor torques ``tau`` (nu,) N m and the
         planned accelerations ``qdd`` (nv,) (None: zero)."""
+        return self.sole_loads(data, tau, qdd)[0]
+
+    def sole_loads(self, data: Any, tau: np.ndarray, qdd: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`normal_forces` (2,) N and each sole's centre of pressure (2, 2), x, y in the sole frame, m
+        (eq. (4); a NaN row where the sole carries less than :data:`COP_MIN_LOAD` of the weight)."""
         m, r = self.model, self._r
         r[:] = data.qfrc_bias
         r -= data.qfrc_passive
@@ -117,14 +139,17 @@ class TorqueContact:
             mujoco.mj_mulM(m, data, self._ma, qdd)
             r += self._ma
         r[self.actuated] -= tau
-        out = np.zeros(2)
+        out, cop = np.zeros(2), np.full((2, 2), np.nan)
         for s, dofs in enumerate(self.legs):
             centre, rot = self.robot.sole_frame(data, s)
             jac = self._jac
             mujoco.mj_jac(m, data, jac[:3], jac[3:], centre, self.robot.soles[s].body)
             wrench, *_ = np.linalg.lstsq(jac[:, dofs].T, r[dofs], rcond=None)  # (n_leg, 6) J_leg^T
-            out[s] = float(wrench[:3] @ rot[:, 2])
-        return out
+            fz = out[s] = float(wrench[:3] @ rot[:, 2])
+            if fz >= self.min_load:  # eq. (4)
+                mx, my = rot[:, 0:2].T @ wrench[3:]
+                cop[s] = np.clip((-my / fz, mx / fz), -self.half_sole, self.half_sole)
+        return out, cop
 
     def acceleration_gains(self, data: Any) -> np.ndarray:
         """``d f / d qdd_j`` (2, nv - 6), N per rad/s^2: how each sole's normal force (eq. (2)) moves with each

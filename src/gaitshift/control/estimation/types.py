@@ -65,9 +65,13 @@ class FootForces:
 
     Attributes:
         normal: (2,) [left, right] normal force, N (positive = pushing on the ground).
+        cop: (2, 2) [left, right] centre of pressure (x along the sole, y across) in the sole frame, m,
+            a NaN row where it is not known (a light load); None: not measured (the filter keeps each
+            stance sole's centre).
     """
 
     normal: np.ndarray
+    cop: np.ndarray | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -137,6 +141,11 @@ class BaseFilter(Protocol):
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float | None]:
         """:meth:`step` without building the :class:`BaseState`: (rot (3, 3), [vel; pos] (2, 3), omega (3,),
         cov_trace); ``rot`` is the filter's own array, valid until the next tick (the estimator's path)."""
+        ...
+
+    def place_contacts(self, cop: np.ndarray) -> None:
+        """The point of each stance sole to take as still from now on: ``cop`` (2, 2), sole-frame x, y, m
+        (a NaN row keeps that sole's last point)."""
         ...
 
 
