@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 
 import gaitshift
-from gaitshift.control.feedback import CaptureSettings
 from gaitshift.control.vhip_driver import VhipDriver
 from gaitshift.robots import load_robot
 from gaitshift.sim.loop import SimOptions, simulate
@@ -183,8 +182,10 @@ def test_g1_push_recovery_survives_10_newton_seconds_and_not_100():
 def test_a_24_newton_second_push_toward_the_stance_foot_is_caught_by_a_tandem_step():
     """Issue 13's lateral target on the estimated state: the second push (-y at mid right stance) puts
     the capture point beyond the right sole; the left foot may land in line with the right one, a sole
-    length ahead (step_limits eq. 2), and the robot recovers with the legs clear of each other. With the
-    sole width kept at every distance (no tandem step), the same push is a fall."""
+    length ahead (step_limits eq. 2), and the robot recovers with the legs clear of each other. (Before
+    the estimator took a stance sole's centre of pressure as its still point, the same push was a fall
+    with the sole width kept at every distance; now that guard catches it too, and so it does 27-38 N s:
+    docs/simulation.md, "Pushes while running".)"""
     traj = gaitshift.plan("g1-push-recovery")
     pushes = mid_stance_pushes(traj, 24.0)
     ok = simulate(traj, SimOptions(pushes=pushes))
@@ -194,11 +195,9 @@ def test_a_24_newton_second_push_toward_the_stance_foot_is_caught_by_a_tandem_st
     after = a["t"] > pushes[1].t
     gap = a["foot_pos"][after, 0, 1] - a["foot_pos"][after, 1, 1]  # left minus right, heading +x
     width = load_robot("g1").sole_size[1]
-    assert gap.min() < 0.5 * width  # a tandem step: closer than the side-by-side guard allows
+    assert gap.min() < width - 1e-3  # a tandem step: closer than the side-by-side guard's sole width (eq. 2)
     assert gap.min() > -1e-3  # and never across the other foot
     assert abs(a["com_pos"][-1, 1] - a["com_ref"][-1, 1]) < 0.05  # back on the plan's line at the end
-    guard = SimOptions(pushes=pushes, capture=replace(CaptureSettings(), tandem_clearance=None))
-    assert simulate(traj, guard).fell
 
 
 def test_a_large_push_is_detected_as_a_fall():

@@ -193,3 +193,19 @@ def test_eq3_is_the_variance_of_the_windows_second_difference(n):
     d2 = q[2 * n :] - 2 * q[n:-n] + q[: -2 * n]
     want = second_difference_variance(jf.a, jf.gain, np.diag([pos_std**2, vel_std**2]), n)
     assert d2.var() == pytest.approx(want, rel=0.05)
+
+
+@pytest.mark.parametrize(("noise", "point"), [("typical", "cop"), ("rl-peer", "centre")])
+def test_the_centre_of_pressure_is_the_stance_point_only_where_its_noise_is_small(noise, point):
+    """Eq. (3) carried through eq. (4): the CoP's std per sample at half the weight, from the moments'
+    acceleration gains and the window's second-difference variance, is 1.4 mm for ``typical`` encoders and
+    about 1 cm for ``rl-peer`` (+-0.01 rad); the controller takes the CoP as the stance point below
+    ``COP_STD_MAX`` of the sole's length, else the sole's centre."""
+    from gaitshift.control.state import COP_STD_MAX, torque_window
+
+    c = Controller.from_scenario("g1-walk", noise=noise)
+    assert c.state.stance_point == point
+    n, _, cop_std = torque_window(c.state.torque_contact, c.initial_qpos(), c.state.estimator.tuning)
+    length = c.robot.robot.sole_size[0]
+    assert (cop_std <= COP_STD_MAX * length) == (point == "cop")
+    assert 1e-3 < cop_std < 2e-2 and n >= 5

@@ -59,7 +59,10 @@ second difference has
 pose).
 On the G1 (n = 5) that is 0.009 of the weight for ``typical`` noise (14-bit encoders) and 0.198 for
 ``rl-peer`` noise (+-0.01 rad per reading); the error measured on g1-walk against the true force, 0.027 and
-0.202 (docs/estimation.md, "Heavy sensor noise").
+0.202 (docs/estimation.md, "Heavy sensor noise"). The moments take their noise the same way, and eq. (4)
+divides it by the load: at half the G1's weight, a CoP std along the sole of 1.4 mm for ``typical`` noise
+(n = 5) and about 1 cm for ``rl-peer`` (the window it gets, n = 10); the controller takes the CoP as the stance
+point only where that std is small (:data:`gaitshift.control.state.COP_STD_MAX`).
 """
 
 from __future__ import annotations
@@ -127,11 +130,22 @@ class TorqueContact:
         """Normal force (2,) N on each sole from ``data`` (the controller's ``MjData`` after
         ``mj_forward``: ``qfrc_bias`` and the frames), the motor torques ``tau`` (nu,) N m and the
         planned accelerations ``qdd`` (nv,) (None: zero)."""
-        return self.sole_loads(data, tau, qdd)[0]
+        return self.sole_wrenches(data, tau, qdd)[:, 2]
 
     def sole_loads(self, data: Any, tau: np.ndarray, qdd: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`normal_forces` (2,) N and each sole's centre of pressure (2, 2), x, y in the sole frame, m
         (eq. (4); a NaN row where the sole carries less than :data:`COP_MIN_LOAD` of the weight)."""
+        w = self.sole_wrenches(data, tau, qdd)
+        cop = np.full((2, 2), np.nan)
+        for s in (0, 1):
+            fz, mx, my = w[s, 2:5].tolist()
+            if fz >= self.min_load:  # eq. (4)
+                cop[s] = np.clip((-my / fz, mx / fz), -self.half_sole, self.half_sole)
+        return w[:, 2].copy(), cop
+
+    def sole_wrenches(self, data: Any, tau: np.ndarray, qdd: np.ndarray | None) -> np.ndarray:
+        """Eq. (2) for both soles: the wrench (2, 6) [force N; moment N m about the centre] on each sole,
+        in its sole frame (arguments as :meth:`normal_forces`)."""
         m, r = self.model, self._r
         r[:] = data.qfrc_bias
         r -= data.qfrc_passive
@@ -139,29 +153,27 @@ class TorqueContact:
             mujoco.mj_mulM(m, data, self._ma, qdd)
             r += self._ma
         r[self.actuated] -= tau
-        out, cop = np.zeros(2), np.full((2, 2), np.nan)
+        out = np.zeros((2, 6))
         for s, dofs in enumerate(self.legs):
             centre, rot = self.robot.sole_frame(data, s)
             jac = self._jac
             mujoco.mj_jac(m, data, jac[:3], jac[3:], centre, self.robot.soles[s].body)
             wrench, *_ = np.linalg.lstsq(jac[:, dofs].T, r[dofs], rcond=None)  # (n_leg, 6) J_leg^T
-            fz = out[s] = float(wrench[:3] @ rot[:, 2])
-            if fz >= self.min_load:  # eq. (4)
-                mx, my = rot[:, 0:2].T @ wrench[3:]
-                cop[s] = np.clip((-my / fz, mx / fz), -self.half_sole, self.half_sole)
-        return out, cop
+            out[s, 0:3], out[s, 3:6] = wrench[:3] @ rot, wrench[3:] @ rot
+        return out
 
     def acceleration_gains(self, data: Any) -> np.ndarray:
-        """``d f / d qdd_j`` (2, nv - 6), N per rad/s^2: how each sole's normal force (eq. (2)) moves with each
-        joint's measured acceleration, at the state of ``data`` (after ``mj_forward``); eq. (3) takes the
-        force's noise from them, ``sigma_f^2 = sum_j (d f / d qdd_j)^2 Var qdd_j``."""
+        """``d w / d qdd_j`` (2, 6, nv - 6), per rad/s^2: how each sole's wrench (eq. (2), sole frame; the
+        normal force is row 2, the moments rows 3-5) moves with each joint's measured acceleration, at
+        the state of ``data`` (after ``mj_forward``); eq. (3) takes the noise from them, ``sigma^2 =
+        sum_j (d w / d qdd_j)^2 Var qdd_j``."""
         m = self.model
         zero_tau = np.zeros(m.nu)
-        base = self.normal_forces(data, zero_tau, None)
-        unit, out = np.zeros(m.nv), np.zeros((2, m.nv - 6))
+        base = self.sole_wrenches(data, zero_tau, None)
+        unit, out = np.zeros(m.nv), np.zeros((2, 6, m.nv - 6))
         for j in range(6, m.nv):
             unit[j] = 1.0
-            out[:, j - 6] = self.normal_forces(data, zero_tau, unit) - base
+            out[:, :, j - 6] = self.sole_wrenches(data, zero_tau, unit) - base
             unit[j] = 0.0
         return out
 
