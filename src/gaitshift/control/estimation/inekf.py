@@ -33,8 +33,9 @@ equals marginalising it). The state keeps a fixed size (21) so no array is reall
 
 The stance point ``y`` is the sole's centre ``y_c``, or with the sole's centre of pressure ``r_i`` (sole
 frame, :meth:`InvariantEKF.place_contacts`) the point under it, ``y = y_c + R_f r_i`` (``R_f`` the sole's
-orientation in the IMU frame): a rolling sole turns about its CoP (docs/deploy.md, "The stance point").
-A CoP that moves by ``dr`` on a stance sole moves the stored point, ``d_i <- d_i + R R_f dr``.
+orientation in the IMU frame): a rolling sole turns about its CoP (docs/deploy.md, "The stance point at
+the centre of pressure"). A CoP that moves by ``dr`` on a stance sole moves the stored point,
+``d_i <- d_i + R R_f dr``.
 
 A known flat floor (``floor``, m) adds the height of each flat stance sole as a measurement, after the
 foot corrections of the same tick (:mod:`gaitshift.control.estimation.floor`).
