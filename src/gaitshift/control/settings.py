@@ -60,7 +60,7 @@ class ControllerSettings:
             eq. (1)); 0: the estimate's position, kicked by its corrections. The G1's 10-minute soak in one
             process, seed 0 / 1: falls at 141.5 / 112.7 s with 0, at 200.9 / 409.6 s with 2 s, at 289.4 s
             (seed 0) with 5 s; holds to its end with 20 s (seeds 0-2; with a tick of latency, one seed of
-            three, and seeds 0-3 with the stance point at the CoP: docs/deploy.md, "The estimate's position,
+            three, and three of four with the stance point at the CoP: docs/deploy.md, "The estimate's position,
             kicked by its corrections" and "The stance point at the centre of pressure").
         stance_point: the point of a stance sole the estimator takes as still, with contact from the
             torques: ``"cop"`` (its centre of pressure, eq. (4) of
