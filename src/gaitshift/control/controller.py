@@ -114,7 +114,7 @@ class Controller:
         d.qpos[:] = self.q0
         mujoco.mj_forward(robot.model, d)
         self.wbc = WholeBodyController(robot, self.q0, s.gains if s.gains is not None else gains_for(robot.robot))
-        self.sched = FootScheduler(plan, self.plan, s.schedule, robot.mass * 9.81)
+        self.sched = FootScheduler(plan, self.plan, s.schedule, robot.weight)
         height = float(plan.meta.get("height", plan.com_pos[0, 2]))
         limits = StepLimits.from_plant(robot, height, s.capture.reach_fraction, s.capture.tandem_clearance)
         half = np.asarray(plan.meta.get("foot_size", (0.0, 0.0)), float) / 2

@@ -212,7 +212,7 @@ class ControllerState:
         self.torque_contact: TorqueContact | None = None
         self._window: AccelerationWindow | None = None
         # at rest on both feet, until the window fills
-        self._force0 = np.full(2, robot.mass * -robot.model.opt.gravity[2] / 2)
+        self._force0 = np.full(2, robot.weight / 2)
         self.record: EstimateRecord | None = None
         self.ticks = 0
         self._last_t = 0.0  # s, the time of the last frame
@@ -380,7 +380,7 @@ def torque_window(contact: TorqueContact, qpos0: np.ndarray, tuning: FilterTunin
     robot, d = contact.robot, mujoco.MjData(contact.robot.model)
     d.qpos[:] = qpos0
     mujoco.mj_forward(robot.model, d)
-    dt, weight = robot.dt, robot.mass * -float(robot.model.opt.gravity[2])
+    dt, weight = robot.dt, robot.weight
     jf = JointVelocityFilter(1, dt, tuning.encoder_std, tuning.joint_vel_std, tuning.joint_accel_density)
     reading_cov = np.diag([tuning.encoder_std**2, tuning.joint_vel_std**2])
     gain2 = (contact.acceleration_gains(d) ** 2).sum(axis=2)  # (2, 6): per (rad/s^2)^2

@@ -88,6 +88,11 @@ class RobotModel:
         return float(self.model.opt.timestep)
 
     @property
+    def weight(self) -> float:
+        """N, the robot's weight under the model's gravity (``mass g``)."""
+        return self.mass * -float(self.model.opt.gravity[2])
+
+    @property
     def motor_names(self) -> tuple[str, ...]:
         """The motors (= their hinge joints), in the order of every per-motor array."""
         m = self.model

@@ -121,7 +121,7 @@ class TorqueContact:
             raise InputError("robot.soles", [len(legs) for legs in self.legs], "legs of at least 3 joints each")
         self.actuated = np.asarray(robot.actuated_dofs)
         self.half_sole = 0.5 * np.asarray(robot.robot.sole_size, float)  # (L/2, W/2), m
-        self.min_load = COP_MIN_LOAD * robot.mass * -float(m.opt.gravity[2])  # N
+        self.min_load = COP_MIN_LOAD * robot.weight  # N
         self._jac = np.zeros((6, m.nv))
         self._r = np.zeros(m.nv)
         self._ma = np.zeros(m.nv)
