@@ -31,11 +31,10 @@ A foot that touches down joins with ``d = p + R y`` and ``P_d* = P_p*``, ``P_dd 
 (Hartley 2018, §VI-D); a foot that lifts off stops being measured (its rows no longer matter, which
 equals marginalising it). The state keeps a fixed size (21) so no array is reallocated per tick.
 
-The stance point ``y`` is the sole's centre ``y_c``, or with the sole's centre of pressure ``r_i`` (sole
-frame, :meth:`InvariantEKF.place_contacts`) the point under it, ``y = y_c + R_f r_i`` (``R_f`` the sole's
-orientation in the IMU frame): a rolling sole turns about its CoP (docs/deploy.md, "The stance point at
-the centre of pressure"). A CoP that moves by ``dr`` on a stance sole moves the stored point,
-``d_i <- d_i + R R_f dr``.
+The stance point ``y`` is the sole's centre ``y_c``, or the point under its centre of pressure ``r_i``
+(sole frame, :meth:`InvariantEKF.place_contacts`), ``y = y_c + R_f r_i`` (``R_f``: the sole in the IMU
+frame), about which a rolling sole turns (docs/deploy.md, "The stance point at the centre of pressure");
+a CoP that moves by ``dr`` on a stance sole moves the stored point, ``d_i <- d_i + R R_f dr``.
 
 A known flat floor (``floor``, m) adds the height of each flat stance sole as a measurement, after the
 foot corrections of the same tick (:mod:`gaitshift.control.estimation.floor`).
@@ -81,7 +80,7 @@ from scipy.linalg.lapack import dposv
 
 from gaitshift.control.estimation.calibration import GyroCalibration
 from gaitshift.control.estimation.floor import floor_correction
-from gaitshift.control.estimation.inekf_terms import CorrectionPattern, at_points, diagonal_view, move_origin
+from gaitshift.control.estimation.inekf_terms import CorrectionPattern, StancePoints, diagonal_view, move_origin
 from gaitshift.control.estimation.lie import SKEW, exp_blocks, log_rot, quat_exp, quat_of_mat
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import BaseState, FootKinematics, ImuReading, new_base_state
@@ -157,8 +156,7 @@ class InvariantEKF:
         self._qdiag = np.zeros(nx)
         self._floor2 = np.array([t.foot_floor**2] * 2 + [t.foot_rot_floor**2] * 2)
         self._in_state = [False, False]
-        self._points = np.zeros((2, 3))  # r_i: the stance points in the sole frames (module docstring)
-        self._points_used = np.zeros((2, 3))  # the r_i the stored points d_i stand for
+        self._points = StancePoints()  # r_i (module docstring)
         self.ticks = np.zeros(1, np.int64)  # ticks since construction (an array: the compiled tick counts too)
         self._exp_mat = np.zeros((6, 3))  # [Exp(phi)^T ; J_l(phi)^T]
         self._exp_flat = self._exp_mat.reshape(18)
@@ -203,7 +201,7 @@ class InvariantEKF:
         self.cov[...] = np.diag(var)  # the prior of the world-frame error, moved to the origin o = pos
         move_origin(self.cov, self._origin)
         self._in_state = [False, False]
-        self._points[...] = self._points_used[...] = 0.0
+        self._points.reset()
         self._outputs()
 
     def _set_dt(self, dt: float) -> None:
@@ -270,16 +268,14 @@ class InvariantEKF:
     def place_contacts(self, cop: np.ndarray) -> None:
         """The stance points ``r_i`` (module docstring): ``cop`` (2, 2), x, y in the sole frames, m; a NaN
         row keeps that sole's last point. Applied at the next correction tick."""
-        known = np.isfinite(cop).all(axis=1)
-        self._points[known, 0:2] = cop[known]
+        self._points.place(cop)
 
     def correction_tick(self, feet: FootKinematics, contact: np.ndarray) -> None:
         """Covariance over the correction period, recentring, the stance-foot correction and the feet
         that touched down; then the outputs that only change here (biases, covariance trace)."""
         self._propagate_cov()
         self._recentre()
-        if self._points.any() or self._points_used.any():
-            feet = at_points(feet, self.rot, self._vec[2:4], self._in_state, self._points, self._points_used)
+        feet = self._points.apply(feet, self.rot, self._vec[2:4], self._in_state)
         left, right = bool(contact[0]), bool(contact[1])
         was = self._in_state
         measured = (left and was[0], right and was[1])

@@ -24,24 +24,37 @@ def diagonal_view(a: np.ndarray) -> np.ndarray:
     return np.lib.stride_tricks.as_strided(a, shape=(n,), strides=((n + 1) * a.itemsize,))
 
 
-def at_points(
-    feet: FootKinematics,
-    rot: np.ndarray,
-    stored: np.ndarray,
-    in_state: list[bool],
-    points: np.ndarray,
-    used: np.ndarray,
-) -> FootKinematics:
-    """``feet`` with each sole's position at its stance point ``y_c + R_f r_i`` (``points`` (2, 3): ``r_i`` in
-    the sole frames); in place, the stored points ``stored`` (2, 3) of the soles ``in_state`` moved by
-    ``R R_f (r_i - r_used)`` (``rot``: R; :mod:`~gaitshift.control.estimation.inekf`, "The stance point"),
-    and ``used`` set to ``points``."""
-    moved = np.einsum("sij,sj->si", feet.rot, points - used)
-    for i in (0, 1):
-        if in_state[i]:
-            stored[i] += rot @ moved[i]
-    used[...] = points
-    return replace(feet, pos=feet.pos + np.einsum("sij,sj->si", feet.rot, points))
+class StancePoints:
+    """The point ``r_i`` of each stance sole the filter takes as still, in the sole frames
+    (:mod:`~gaitshift.control.estimation.inekf`, "The stance point").
+
+    Attributes:
+        points: (2, 3) m, the requested ``r_i`` (zero: the sole centres).
+        used: (2, 3) m, the ``r_i`` the filter's stored points stand for.
+    """
+
+    def __init__(self) -> None:
+        self.points, self.used = np.zeros((2, 3)), np.zeros((2, 3))
+
+    def reset(self) -> None:
+        self.points[...] = self.used[...] = 0.0
+
+    def place(self, cop: np.ndarray) -> None:
+        """``cop`` (2, 2): x, y in the sole frames, m; a NaN row keeps that sole's point."""
+        known = np.isfinite(cop).all(axis=1)
+        self.points[known, 0:2] = cop[known]
+
+    def apply(self, feet: FootKinematics, rot: np.ndarray, stored: np.ndarray, in_state: list[bool]) -> FootKinematics:
+        """``feet`` with each sole's position at its stance point ``y_c + R_f r_i``; in place, the stored
+        points ``stored`` (2, 3) of the soles ``in_state`` moved by ``R R_f (r_i - r_used)`` (``rot``: R)."""
+        if not (self.points.any() or self.used.any()):
+            return feet
+        moved = np.einsum("sij,sj->si", feet.rot, self.points - self.used)
+        for i in (0, 1):
+            if in_state[i]:
+                stored[i] += rot @ moved[i]
+        self.used[...] = self.points
+        return replace(feet, pos=feet.pos + np.einsum("sij,sj->si", feet.rot, self.points))
 
 
 def move_origin(cov: np.ndarray, c: np.ndarray) -> None:
