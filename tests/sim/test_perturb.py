@@ -26,6 +26,31 @@ def test_scaled_model_has_s_times_the_mass_and_nominal_is_untouched():
     assert scaled_masses(model, 1.0) is model
 
 
+@pytest.mark.parametrize(("scale", "offset"), [(0.9, (0.0, 0.0, 0.0)), (1.1, (0.04, -0.03, 0.01))])
+def test_the_perturbed_plants_com_is_the_mass_weighted_mean_of_its_bodies(scale, offset):
+    """MuJoCo's whole-body CoM of the perturbed plant, the one the run's log and metrics read, is
+    sum_b m_b x_b / sum_b m_b of that plant's own masses and body CoMs (on the old code, with the
+    compile-time subtree mass left nominal, it was ``scale`` times that: 6 cm low at 0.9 on a standing
+    G1), and its CoM velocity sum_b m_b v_b / sum_b m_b."""
+    from gaitshift.sim.perturb import perturbed_physics
+    from gaitshift.sim.plant import build_plant
+
+    plant = build_plant(0.002, "g1")
+    m = perturbed_physics(plant.model, scale, np.array(offset), 1.0, plant.pelvis_body)
+    d = mujoco.MjData(m)
+    d.qpos[:] = m.qpos0
+    d.qvel[:] = np.random.default_rng(0).normal(0.0, 0.5, m.nv)
+    mujoco.mj_forward(m, d)
+    mujoco.mj_subtreeVel(m, d)
+    mass = m.body_mass[1:, None]
+    assert np.allclose(d.subtree_com[0], (mass * d.xipos[1:]).sum(0) / mass.sum(), atol=1e-12)
+    v = np.zeros((m.nbody, 6))
+    for b in range(1, m.nbody):
+        mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_XBODY, b, v[b], 0)
+    vcom = v[1:, 3:] + np.cross(v[1:, :3], d.xipos[1:] - d.xpos[1:])  # each body's CoM velocity
+    assert np.allclose(d.subtree_linvel[0], (mass * vcom).sum(0) / mass.sum(), atol=1e-9)
+
+
 @pytest.mark.parametrize("bad", [0.0, -1.0, 10.0, float("nan"), True])
 def test_sim_options_refuse_bad_mass_scale(bad):
     """A mass scale outside [0.25, 4] (or not a number) is one InputError naming mass_scale."""

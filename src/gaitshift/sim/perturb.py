@@ -27,6 +27,7 @@ import copy
 from dataclasses import replace
 from typing import Any
 
+import mujoco
 import numpy as np
 
 from gaitshift.control.estimation.noise import Channel, NoiseProfile
@@ -45,6 +46,7 @@ __all__ = [
     "check_motor_strength",
     "perturbed_physics",
     "scaled_masses",
+    "with_constants",
     "with_joint_vel_noise",
 ]
 
@@ -62,7 +64,16 @@ def scaled_masses(model: Any, scale: float) -> Any:
     out = copy.copy(model)
     out.body_mass[:] = model.body_mass * scale
     out.body_inertia[:] = model.body_inertia * scale
-    return out
+    return with_constants(out)
+
+
+def with_constants(model: Any) -> Any:
+    """``model`` with the constants MuJoCo derives from its masses at compile time recomputed
+    (``mj_setConst``: ``body_subtreemass``, the inverse weights of the constraint solver, ...). Without
+    them ``subtree_com = sum_b m_b x_b / body_subtreemass`` divides by the nominal mass: the logged CoM
+    of a plant ``s`` times heavier was ``s`` times its position (and its velocity ``s`` times too)."""
+    mujoco.mj_setConst(model, mujoco.MjData(model))
+    return model
 
 
 def check_com_offset(offset: object) -> tuple[float, float, float]:
@@ -91,7 +102,7 @@ def perturbed_physics(model: Any, mass_scale: float, com_offset: Any, motor_stre
     out.body_ipos[base] = model.body_ipos[base] + offset
     out.actuator_gear[:, 0] = model.actuator_gear[:, 0] * motor_strength
     out.jnt_actfrcrange[:] = model.jnt_actfrcrange * motor_strength  # the joint's own clamp follows
-    return out
+    return with_constants(out)
 
 
 def check_joint_vel_noise(noise: object) -> float:
