@@ -24,7 +24,8 @@ BASE_DOMAIN = 100 + os.getpid() % 90 + 30
 
 
 def start_pair(tmp_path, domain, *extra, link=()):
-    """The robot process (with the ``link`` fault flags) and the brain (with ``extra`` flags) on ``domain``."""
+    """The robot process (with the ``link`` flags: its faults, its recording) and the brain (with ``extra`` flags)
+    on ``domain``."""
     (tmp_path / "tiny.yaml").write_text(TINY)
     summary = str(tmp_path / "robot.json")
     robot = gaitshift(
@@ -57,10 +58,14 @@ def is_damping(msg, n=29):
 
 
 def test_the_brain_stands_the_robot_up_walks_the_plan_and_ends_in_damping(tmp_path):
-    """Exit 0, no fall, the distance of the plan within 5 cm, the last command damping."""
+    """Exit 0, no fall, the distance of the plan within 5 cm, the last command damping. Both record the
+    run (--record), and the recordings meet at the robot's tick (check_recordings)."""
     domain = BASE_DOMAIN
     listener = open_endpoint(domain, "lo", "robot")  # reads rt/lowcmd, writes nothing
-    (robot, rfiles), (brain, bfiles) = start_pair(tmp_path, domain)
+    recordings = tmp_path / "brain.npz", tmp_path / "robot.npz"
+    (robot, rfiles), (brain, bfiles) = start_pair(
+        tmp_path, domain, "--record", str(recordings[0]), link=("--record", str(recordings[1]))
+    )
     try:
         finish(brain, bfiles, timeout=240.0)
         cmd = last_command(listener)
@@ -85,6 +90,32 @@ def test_the_brain_stands_the_robot_up_walks_the_plan_and_ends_in_damping(tmp_pa
     # the estimator starts from the pose the stand-up left (its tilt from the soles, not the plan's: 0.03 rad
     # off) and the score reads the contact flags per foot: 0.0007 rad and 0.986 measured
     assert r["est_tilt_rmse"] < 0.005 and r["est_contact_accuracy"] > 0.95
+    check_recordings(*recordings, s)
+
+
+def check_recordings(brain_file, robot_file, s):
+    """The two recordings meet at the robot's tick (gaitshift.dds.record): the joint angles the brain
+    recorded for the state of tick k are the robot's truth at tick k (noise none: to float32's rounding of
+    LowState_), the command the robot applied at tick k is the one the brain wrote for that state (lockstep:
+    a command answers its tick's state), and the brain's own columns agree with its summary (every tick's
+    duration, the missed deadlines, the controller's ticks). No value is NaN."""
+    from gaitshift.dds.record import meet
+    from gaitshift.robots import load_robot
+
+    b, r = np.load(brain_file), np.load(robot_file)
+    meta = json.loads(str(b["meta"]))
+    assert meta["rows"] == s["ticks"] and all(np.all(np.isfinite(b[k])) for k in meta["columns"])
+    m = load_robot("g1").model()
+    adr = [int(m.joint(name).qposadr[0]) for name in meta["motors"]]
+    rows = meet(b, r)
+    assert (rows >= 0).all()
+    assert np.abs(b["q"] - r["qpos"][rows][:, adr]).max() < 1e-6
+    applied = r["applied"][rows] == 1
+    assert applied.sum() > 0.9 * len(rows)
+    for key in ("cmd_q", "cmd_dq", "cmd_kp", "cmd_kd", "cmd_tau"):
+        assert np.abs(b[key][applied] - r[key][rows][applied]).max() < 1e-4 * max(1.0, np.abs(b[key]).max())
+    assert np.percentile(b["duration"], 50) * 1e3 == pytest.approx(s["tick_p50_ms"], rel=1e-9)
+    assert b["missed"].sum() == s["missed_deadlines"] and b["estimated"].sum() == s["locomotion_ticks"]
 
 
 def test_a_lossy_late_link_still_walks_the_plan(tmp_path):
@@ -179,6 +210,8 @@ def test_no_robot_is_one_line_and_exit_1(tmp_path):
         (["--deadline", "0.5"], "--deadline"),
         (["--rt-priority", "0"], "--rt-priority"),
         (["--cmd-topic"], "--cmd-topic"),  # g1-walk's plan is fixed: no live command
+        (["--record", "run.csv"], "--record"),
+        (["--record", "/"], "--record"),
     ],
 )
 def test_a_bad_flag_or_domain_0_without_the_real_robot_flag_is_one_line_and_exit_2(cli, flags, name):

@@ -21,6 +21,7 @@ from gaitshift.sim.plant import build_plant
         (["--delay-ms", "2", "--jitter-ms", "3"], "--jitter-ms"),
         (["--world", "nowhere"], "--world"),
         (["--rt-priority", "100"], "--rt-priority"),
+        (["--record", "run.npy"], "--record"),
     ],
 )
 def test_a_bad_flag_is_one_line_and_exit_2(cli, flags, name):

@@ -63,6 +63,9 @@ def dds_robot_cmd(
     rt_priority: int | None = typer.Option(
         None, "--rt-priority", help="Run the loop under SCHED_FIFO at this priority, 1-99 (needs root)."
     ),
+    record: Path | None = typer.Option(
+        None, "--record", help="A .npz of the run, a row per tick: the truth, the command applied (on exit)."
+    ),
 ) -> None:
     """Run ROBOT in gaitshift's MuJoCo world behind the protocol: rt/lowstate out every control period,
     rt/lowcmd in (bad CRCs dropped and counted), tau + kp (q_des - q) + kd (dq_des - dq) per motor; with
@@ -75,6 +78,8 @@ def dds_robot_cmd(
 
     if summary is not None:
         out_file(summary, "--summary", (".json",))
+    if record is not None:
+        out_file(record, "--record", (".npz",))
     network_interface(iface)
     if noise not in NOISE_PROFILES:
         raise InputError("--noise", noise, "one of: " + ", ".join(NOISE_PROFILES))
@@ -93,6 +98,7 @@ def dds_robot_cmd(
         faults=faults,
         world=world,
         rt_priority=rt_priority,
+        record=None if record is None else str(record),
     )
     mode = "lockstep" if lockstep else "real time"
     typer.echo(f"{robot} on DDS domain {domain} over {iface} ({mode}): rt/lowstate out, rt/lowcmd in", err=True)
@@ -153,6 +159,9 @@ def dds_control_cmd(
     teleop: bool = typer.Option(
         False, "--teleop", help="Steer with the keys (arrows/wasd speed, z/x turn, space stand, q stop): a terminal."
     ),
+    record: Path | None = typer.Option(
+        None, "--record", help="A .npz of the run, a row per tick: state, estimate, command, tick time (on exit)."
+    ),
 ) -> None:
     """Run SCENARIO's controller over the protocol: rt/lowstate in, rt/lowcmd out, behind the safety
     machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Live commands (a
@@ -162,6 +171,8 @@ def dds_control_cmd(
     from gaitshift.dds.brain import BrainOptions
 
     network_interface(iface)
+    if record is not None:
+        out_file(record, "--record", (".npz",))
     check_live_flags(scenario, cmd_topic, web_port, teleop)  # one line, exit 2, before anything is built
     opts = BrainOptions(
         scenario=scenario,
@@ -187,6 +198,7 @@ def dds_control_cmd(
         deadline=deadline,
         known_floor=known_floor,
         rt_priority=rt_priority,
+        record=None if record is None else str(record),
     )
     _start_brain(opts, warm, as_json, (web, web_port), teleop)
 

@@ -61,6 +61,8 @@ from gaitshift.dds.lockstep import LockstepClock, ticks_from
 from gaitshift.dds.messages import LowState_
 from gaitshift.dds.priority import set_priority
 from gaitshift.dds.realtime import ArrivalClock
+from gaitshift.dds.record import Recorder, brain_row, brain_widths
+from gaitshift.dds.safety import PHASES
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.still_gyro import LegRate
 from gaitshift.dds.ticklog import TickLog
@@ -109,6 +111,10 @@ class _Brain:
         self.silent = False  # lockstep: the robot stopped answering (a stale state)
         self.clock = LockstepClock(endpoint) if opts.lockstep else None  # lockstep: the robot's ticks
         self.fresh = True  # real time: this tick brought a state of a new tick (else its deadline passed)
+        self.frame_now: SensorFrame | None = None  # the frame of this tick's state (None: out of range)
+        m = ctrl.robot.model
+        meta = {"process": "brain", "scenario": opts.scenario, "period": self.period, "motors": ctrl.motor_names}
+        self.recorder = Recorder(opts.record, brain_widths(self.n, m.nq, m.nv), meta) if opts.record else None
 
     def take(self) -> bool:
         """Take every state received; keep the newest with a good CRC (a message of another encapsulation is
@@ -180,6 +186,7 @@ class _Brain:
         """One tick at machine time ``t`` s with a state ``age`` s old: the command written; the tick's kind
         for the log (0 safety phase, 1 controller, 2 controller with a re-plan)."""
         frame, why = self.frame(t)
+        self.frame_now = frame
         if self.commands is not None:
             self.commands.poll()
         if frame is None:
@@ -292,6 +299,17 @@ def _loop(brain: _Brain, signals: StopSignals) -> None:
         kind = brain.control(t, age)
         end = time.perf_counter()
         brain.log.add(end - start, kind, end - start > period)
+        if brain.recorder is not None:
+            record(brain, t, end - start, kind)
+
+
+def record(brain: _Brain, t: float, duration: float, kind: int) -> None:
+    """The tick's row of the recording (:mod:`gaitshift.dds.record`)."""
+    assert brain.recorder is not None
+    est = brain.ctrl.record.estimate if kind and brain.ctrl.record is not None else None
+    scalars = {"t": t, "duration": duration, "missed": duration > brain.period, "fresh": brain.fresh, "kind": kind}
+    phase = PHASES.index(brain.safety.phase)
+    brain.recorder.add(**brain_row(brain.handled, brain.frame_now, brain.last, est, phase=phase, **scalars))
 
 
 def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: float) -> BrainSummary:
@@ -370,6 +388,8 @@ def run_brain(
         _loop(brain, signals)
     finally:
         signals.restore()
+        if brain.recorder is not None:
+            brain.recorder.save()
     s = brain.safety
     code = 0 if s.phase == "stop" else 1
     return _summary(brain, code, s.reason, s.phase, time.perf_counter() - start)

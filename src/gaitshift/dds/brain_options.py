@@ -8,6 +8,7 @@ from gaitshift.control.estimation.calibration import CALIBRATION_TIME
 from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.dds.priority import check_priority
 from gaitshift.dds.realtime import DEADLINE, DEADLINE_RANGE
+from gaitshift.dds.record import check_record
 from gaitshift.dds.safety import check_settings
 from gaitshift.dds.transport import check_domain
 from gaitshift.errors import InputError, check_flag, number_in
@@ -46,6 +47,8 @@ class BrainOptions:
             None: a normal thread).
         known_floor: the robot stands on a flat floor, whose height the estimator then takes as a
             measurement when the scenario has no terrain (``ControllerSettings.floor``); False: unknown.
+        record: a ``.npz`` to write the run's recording to, a row per tick (:mod:`gaitshift.dds.record`);
+            None: none.
     """
 
     scenario: str
@@ -71,9 +74,11 @@ class BrainOptions:
     latency: int | None = None
     known_floor: bool = False
     rt_priority: int | None = None
+    record: str | None = None
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
+        check_record(self.record)
         if self.domain == 0 and not self.real_robot:
             raise InputError("--domain", 0, "1-232 for a simulated robot; domain 0 is a real robot: add --real-robot")
         check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)

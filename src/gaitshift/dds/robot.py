@@ -46,6 +46,7 @@ from gaitshift.dds.g1 import check_motor_order
 from gaitshift.dds.link import Link, LinkFaults
 from gaitshift.dds.own_messages import CLOCK_TOPIC, ESTIMATE_TOPIC, Clock_, Estimate_
 from gaitshift.dds.priority import check_priority, set_priority
+from gaitshift.dds.record import Recorder, check_record, command_values, robot_widths
 from gaitshift.dds.scoring import EstimateScore, ScoreSummary
 from gaitshift.dds.signals import StopSignals
 from gaitshift.dds.transport import Endpoint, check_domain, open_endpoint, topic_reader, topic_writer
@@ -83,6 +84,7 @@ class RobotOptions:
             ``sim: {friction}`` the floor takes; None: a flat floor of the model's friction.
         rt_priority: run the loop's thread under SCHED_FIFO at this priority (:mod:`gaitshift.dds.priority`;
             None: a normal thread).
+        record: a ``.npz`` to write the run's recording to, a row per tick (:mod:`gaitshift.dds.record`).
     """
 
     robot: str = "g1"
@@ -100,9 +102,11 @@ class RobotOptions:
     faults: LinkFaults = field(default_factory=LinkFaults)
     world: str | None = None
     rt_priority: int | None = None
+    record: str | None = None
 
     def __post_init__(self) -> None:
         check_domain(self.domain)
+        check_record(self.record)
         if self.duration is not None:
             number_in("--duration", self.duration, (0.0, 1e6), "s")
         number_in("--damping-after", self.damping_after, (0.0, 60.0), "s")
@@ -197,6 +201,8 @@ class _Robot:
         self.damping = MotorCommand(q=zero, dq=zero, kp=zero, kd=np.full(self.n, opts.damping_kd), tau=zero)
         self.estimates = topic_reader(endpoint, ESTIMATE_TOPIC, Estimate_, depth=256)
         self.score = EstimateScore()
+        m, meta = plant.model, {"process": "robot", "robot": opts.robot, "period": self.dt, "motors": plant.motor_names}
+        self.recorder = Recorder(opts.record, robot_widths(self.n, m.nq, m.nv), meta) if opts.record else None
 
     def publish(self, k: int) -> None:
         """Observe tick ``k`` (the fall test) and write its state."""
@@ -257,11 +263,20 @@ class _Robot:
             s.held_ticks += 1
             return
         if self.command is not None and t - self.command_time <= self.opts.damping_after:
-            cmd, s.commands_applied = self.command, s.commands_applied + 1
+            cmd, s.commands_applied, applied = self.command, s.commands_applied + 1, 1
         else:
-            cmd, s.damping_ticks = self.damping, s.damping_ticks + 1
+            cmd, s.damping_ticks, applied = self.damping, s.damping_ticks + 1, 2
+        if self.recorder is not None:
+            self.record(k, cmd, applied)
         self.world.apply(cmd, k)
         self.world.step()
+
+    def record(self, k: int, cmd: MotorCommand, applied: int) -> None:
+        """Tick ``k``'s row of the recording: the truth before the step, the command applied."""
+        assert self.recorder is not None and self.world.contacts is not None
+        d, c = self.world.d, self.world.contacts
+        row = {"qpos": d.qpos, "qvel": d.qvel, "touching": c.touching, "grf": c.grf.ravel()}
+        self.recorder.add(t=k * self.dt, tick=k, applied=applied, **row, **command_values(cmd))
 
 
 def scenario_world(world: str | None) -> tuple[Terrain, float | None]:
@@ -342,4 +357,6 @@ def run_robot(opts: RobotOptions, endpoint: Endpoint | None = None) -> RobotSumm
         score = robot.score.summary()
         for f in fields(ScoreSummary):
             setattr(s, f.name, getattr(score, f.name))
+        if robot.recorder is not None:
+            robot.recorder.save()
     return robot.summary
