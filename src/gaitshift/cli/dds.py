@@ -33,6 +33,11 @@ def network_interface(iface: str) -> str:
     return iface
 
 
+def record_path(record: Path | None) -> str | None:
+    """``--record``: checked before any work (a ``.npz`` name, a place a file can be written); as a string."""
+    return None if record is None else str(out_file(record, "--record", (".npz",)))
+
+
 dds_app = typer.Typer(help="Unitree's low-level DDS protocol (hg messages, the G1).", no_args_is_help=True)
 app.add_typer(dds_app, name="dds")
 
@@ -78,8 +83,7 @@ def dds_robot_cmd(
 
     if summary is not None:
         out_file(summary, "--summary", (".json",))
-    if record is not None:
-        out_file(record, "--record", (".npz",))
+    record_path(record)
     network_interface(iface)
     if noise not in NOISE_PROFILES:
         raise InputError("--noise", noise, "one of: " + ", ".join(NOISE_PROFILES))
@@ -98,7 +102,7 @@ def dds_robot_cmd(
         faults=faults,
         world=world,
         rt_priority=rt_priority,
-        record=None if record is None else str(record),
+        record=record_path(record),
     )
     mode = "lockstep" if lockstep else "real time"
     typer.echo(f"{robot} on DDS domain {domain} over {iface} ({mode}): rt/lowstate out, rt/lowcmd in", err=True)
@@ -159,20 +163,15 @@ def dds_control_cmd(
     teleop: bool = typer.Option(
         False, "--teleop", help="Steer with the keys (arrows/wasd speed, z/x turn, space stand, q stop): a terminal."
     ),
-    record: Path | None = typer.Option(
-        None, "--record", help="A .npz of the run, a row per tick: state, estimate, command, tick time (on exit)."
-    ),
+    record: Path | None = typer.Option(None, "--record", help="A .npz of the run: a row per tick (on exit)."),
 ) -> None:
-    """Run SCENARIO's controller over the protocol: rt/lowstate in, rt/lowcmd out, behind the safety
-    machine (damping, stand-up, locomotion, stop, damping; any fault: damping). Live commands (a
-    locomotion scenario) from rt/gaitshift/cmd_vel (--cmd-topic), the browser page (--web) and the keys
-    (--teleop). Exit 0 when the plan ended, 1 on a fault or when no robot answers."""
+    """Run SCENARIO's controller over the protocol (rt/lowstate in, rt/lowcmd out) behind the safety machine
+    (damping, stand-up, locomotion, stop, damping; a fault: damping); live commands from rt/gaitshift/cmd_vel
+    (--cmd-topic), the page (--web), the keys (--teleop). Exit 0: the plan ended; 1: a fault, no robot."""
     from gaitshift.cli.dds_live import check_live_flags
     from gaitshift.dds.brain import BrainOptions
 
     network_interface(iface)
-    if record is not None:
-        out_file(record, "--record", (".npz",))
     check_live_flags(scenario, cmd_topic, web_port, teleop)  # one line, exit 2, before anything is built
     opts = BrainOptions(
         scenario=scenario,
@@ -198,7 +197,7 @@ def dds_control_cmd(
         deadline=deadline,
         known_floor=known_floor,
         rt_priority=rt_priority,
-        record=None if record is None else str(record),
+        record=record_path(record),
     )
     _start_brain(opts, warm, as_json, (web, web_port), teleop)
 
