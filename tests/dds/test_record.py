@@ -26,7 +26,7 @@ def test_every_row_is_kept_in_order_past_the_first_block(tmp_path):
 
 def test_a_column_not_given_is_zeros_and_the_widths_follow_the_robot():
     w = brain_widths(29, 36, 35)
-    assert (w["q"], w["est_qpos"], w["est_qvel"], w["quat"], w["t"]) == (29, 36, 35, 4, 1)
+    assert (w["q"], w["est_qpos"], w["est_qvel"], w["quat"], w["ref_foot"], w["t"]) == (29, 36, 35, 4, 6, 1)
     rec = Recorder("unused.npz", w, {})
     rec.add(t=1.0)
     assert not rec.arrays()["cmd_tau"].any()

@@ -306,10 +306,10 @@ def _loop(brain: _Brain, signals: StopSignals) -> None:
 def record(brain: _Brain, t: float, duration: float, kind: int) -> None:
     """The tick's row of the recording (:mod:`gaitshift.dds.record`)."""
     assert brain.recorder is not None
-    est = brain.ctrl.record.estimate if kind and brain.ctrl.record is not None else None
+    rec = brain.ctrl.record if kind else None
     scalars = {"t": t, "duration": duration, "missed": duration > brain.period, "fresh": brain.fresh, "kind": kind}
     phase = PHASES.index(brain.safety.phase)
-    brain.recorder.add(**brain_row(brain.handled, brain.frame_now, brain.last, est, phase=phase, **scalars))
+    brain.recorder.add(**brain_row(brain.handled, brain.frame_now, brain.last, rec, phase=phase, **scalars))
 
 
 def _summary(brain: _Brain | None, code: int, reason: str, phase: str, wall: float) -> BrainSummary:

@@ -15,6 +15,8 @@ Brain (:data:`BRAIN_COLUMNS`, ``n`` motors; nq, nv of the controller's model)::
     quat (4,) w x y z, gyro (3,) rad/s, acc (3,) m/s^2: the IMU as reported
     cmd_q, cmd_dq, cmd_kp, cmd_kd, cmd_tau  (n,) the command written (after the safety's clamps)
     est_qpos (nq,), est_qvel (nv,), est_contact (2,): the controller's estimate (zeros when not estimated)
+    ref_com, ref_com_vel (3,), ref_stance (2,), ref_foot (6,: the soles' (2, 3)): what the controller
+                 tracked at the tick, in its estimate's frame (zeros when it did not tick)
 
 Robot (:data:`ROBOT_COLUMNS`)::
 
@@ -76,6 +78,10 @@ BRAIN_COLUMNS: dict[str, tuple[int, int, int, int]] = {
     "est_qpos": (0, 1, 0, 0),
     "est_qvel": (0, 0, 1, 0),
     "est_contact": (0, 0, 0, 2),
+    "ref_com": (0, 0, 0, 3),
+    "ref_com_vel": (0, 0, 0, 3),
+    "ref_stance": (0, 0, 0, 2),
+    "ref_foot": (0, 0, 0, 6),
 }
 
 #: the robot's columns, as :data:`BRAIN_COLUMNS`
@@ -164,16 +170,26 @@ def command_values(cmd: Any) -> dict[str, np.ndarray]:
     return {"cmd_q": cmd.q, "cmd_dq": cmd.dq, "cmd_kp": cmd.kp, "cmd_kd": cmd.kd, "cmd_tau": cmd.tau}
 
 
-def brain_row(tick: int, frame: Any, cmd: Any, estimate: Any, **scalars: float) -> dict[str, Any]:
+def brain_row(tick: int, frame: Any, cmd: Any, record: Any, **scalars: float) -> dict[str, Any]:
     """One brain row: the state's ``tick``, the ``frame`` it became (None: out of range, zeros), the command
-    written, the controller's ``estimate`` (an :class:`~gaitshift.control.state.EstimateRecord`, or None),
-    and the scalar columns (t, duration, missed, fresh, kind, phase)."""
+    written, the controller's tick (a :class:`~gaitshift.control.controller.TickRecord`, or None: it did not
+    tick), and the scalar columns (t, duration, missed, fresh, kind, phase)."""
     row: dict[str, Any] = {"tick": tick, **scalars, **command_values(cmd)}
     if frame is not None:
         row |= {"q": frame.q, "dq": frame.dq, "tau_est": frame.tau_est}
         row |= {"quat": frame.imu_quat, "gyro": frame.imu_gyro, "acc": frame.imu_acc}
-    if estimate is not None:
-        row |= {"estimated": 1, "est_qpos": estimate.qpos, "est_qvel": estimate.qvel, "est_contact": estimate.contact}
+    if record is None:
+        return row
+    ref = record.reference
+    row |= {
+        "ref_com": ref.com_pos,
+        "ref_com_vel": ref.com_vel,
+        "ref_stance": ref.stance,
+        "ref_foot": ref.foot_pos.ravel(),
+    }
+    est = record.estimate
+    if est is not None:
+        row |= {"estimated": 1, "est_qpos": est.qpos, "est_qvel": est.qvel, "est_contact": est.contact}
     return row
 
 
