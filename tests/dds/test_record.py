@@ -1,4 +1,4 @@
-"""The recording's file (gaitshift.dds.record): every row kept past the first block, each column its width,
+"""The recording's file (gaitshift.dds.record): every row kept across its blocks, each column its width,
 a value that is not finite refused with no file left behind, and the options refusing a bad path in one
 InputError naming --record (the Python API as the command line)."""
 
@@ -13,7 +13,7 @@ from gaitshift.errors import InputError
 
 def test_every_row_is_kept_in_order_past_the_first_block(tmp_path):
     rec = Recorder(tmp_path / "r.npz", {"t": 1, "q": 3}, {"process": "test"})
-    n = 10_000  # the arrays start at 4096 rows and double twice
+    n = 10_000  # three blocks of 4096 rows, the last one part-filled
     for k in range(n):
         rec.add(t=k * 0.002, q=np.full(3, k))
     rec.save()
