@@ -83,7 +83,7 @@ def dds_robot_cmd(
 
     if summary is not None:
         out_file(summary, "--summary", (".json",))
-    record_path(record)
+    record_file = record_path(record)
     network_interface(iface)
     if noise not in NOISE_PROFILES:
         raise InputError("--noise", noise, "one of: " + ", ".join(NOISE_PROFILES))
@@ -102,7 +102,7 @@ def dds_robot_cmd(
         faults=faults,
         world=world,
         rt_priority=rt_priority,
-        record=record_path(record),
+        record=record_file,
     )
     mode = "lockstep" if lockstep else "real time"
     typer.echo(f"{robot} on DDS domain {domain} over {iface} ({mode}): rt/lowstate out, rt/lowcmd in", err=True)
