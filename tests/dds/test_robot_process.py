@@ -129,9 +129,12 @@ def test_real_time_damps_without_commands_and_writes_the_summary_on_sigterm(tmp_
 
 
 def test_the_gantry_holds_the_world_still_until_the_first_valid_command(tmp_path):
+    """Held: the same joint angles tick after tick, then the legs fold on zero torque. Its recording (a
+    SIGTERM ends the run) has a row per tick, the held ones marked 0 with no command, the others the zero
+    torque applied, and the truth of the held ticks unchanged."""
     domain = BASE_DOMAIN + 2
     controller = open_endpoint(domain, "lo", "controller")
-    proc, summary_path, log = start_robot(domain, tmp_path)
+    proc, summary_path, log = start_robot(domain, tmp_path, "--record", str(tmp_path / "robot.npz"))
     held, moved, q0 = [], [], None
     deadline = time.monotonic() + 60.0
     try:
@@ -161,3 +164,8 @@ def test_the_gantry_holds_the_world_still_until_the_first_valid_command(tmp_path
     s = json.loads(summary_path.read_text())
     assert s["held_ticks"] >= 50 and s["commands_applied"] >= 50 and s["damping_ticks"] == 0
     assert s["held_ticks"] + s["commands_applied"] == s["ticks"]
+    r = np.load(tmp_path / "robot.npz")
+    assert len(r["tick"]) == s["ticks"] and np.array_equal(r["tick"], np.arange(s["ticks"]))
+    assert (r["applied"] == 0).sum() == s["held_ticks"] and (r["applied"] == 1).sum() == s["commands_applied"]
+    assert not r["cmd_kd"][r["applied"] == 0].any() and not r["cmd_tau"].any()
+    assert np.ptp(r["qpos"][r["applied"] == 0], axis=0).max() == 0.0

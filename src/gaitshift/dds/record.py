@@ -21,7 +21,7 @@ Brain (:data:`BRAIN_COLUMNS`, ``n`` motors; nq, nv of the controller's model)::
 Robot (:data:`ROBOT_COLUMNS`)::
 
     t            s of simulated time (tick x period)         tick        the tick stepped
-    applied      0 held in the gantry, 1 a command, 2 damping
+    applied      0 held in the gantry (the command's columns zero), 1 a command, 2 damping
     qpos (nq,), qvel (nv,): the truth before the step       touching (2,), grf (6,) N: the soles' (2, 3) forces
     cmd_q, cmd_dq, cmd_kp, cmd_kd, cmd_tau  (n,) the command applied
 

@@ -261,6 +261,8 @@ class _Robot:
         s.ticks, s.sim_time = k + 1, (k + 1) * self.dt
         if self.opts.gantry and not self.opts.lockstep and self.command is None:
             s.held_ticks += 1
+            if self.recorder is not None:
+                self.record(k, None, 0)
             return
         if self.command is not None and t - self.command_time <= self.opts.damping_after:
             cmd, s.commands_applied, applied = self.command, s.commands_applied + 1, 1
@@ -271,12 +273,14 @@ class _Robot:
         self.world.apply(cmd, k)
         self.world.step()
 
-    def record(self, k: int, cmd: MotorCommand, applied: int) -> None:
-        """Tick ``k``'s row of the recording: the truth before the step, the command applied."""
+    def record(self, k: int, cmd: MotorCommand | None, applied: int) -> None:
+        """Tick ``k``'s row of the recording: the truth before the step, the command applied (None: held in
+        the gantry, nothing applied, the command's columns zero)."""
         assert self.recorder is not None and self.world.contacts is not None
         d, c = self.world.d, self.world.contacts
         row = {"qpos": d.qpos, "qvel": d.qvel, "touching": c.touching, "grf": c.grf.ravel()}
-        self.recorder.add(t=k * self.dt, tick=k, applied=applied, **row, **command_values(cmd))
+        cmd_row = command_values(cmd) if cmd is not None else {}
+        self.recorder.add(t=k * self.dt, tick=k, applied=applied, **row, **cmd_row)
 
 
 def scenario_world(world: str | None) -> tuple[Terrain, float | None]:
