@@ -32,6 +32,8 @@ WRITERS: list[tuple[list[str], str, str, bool]] = [
     (["robot", "tune", "{robot}", "--out", "{folder}/t.yaml"], "--report", ".md", False),
     (["robot", "tune", "{robot}"], "--out", ".yaml", False),
     (["dds", "robot"], "--summary", ".json", False),
+    (["dds", "robot"], "--record", ".npz", False),
+    (["dds", "control", "g1-walk"], "--record", ".npz", False),
 ]
 
 
