@@ -90,15 +90,17 @@ def test_the_brain_stands_the_robot_up_walks_the_plan_and_ends_in_damping(tmp_pa
     # the estimator starts from the pose the stand-up left (its tilt from the soles, not the plan's: 0.03 rad
     # off) and the score reads the contact flags per foot: 0.0007 rad and 0.986 measured
     assert r["est_tilt_rmse"] < 0.005 and r["est_contact_accuracy"] > 0.95
-    check_recordings(*recordings, s)
+    check_recordings(*recordings, s, r)
 
 
-def check_recordings(brain_file, robot_file, s):
+def check_recordings(brain_file, robot_file, s, r_summary):
     """The two recordings meet at the robot's tick (gaitshift.dds.record): the joint angles the brain
     recorded for the state of tick k are the robot's truth at tick k (noise none: to float32's rounding of
     LowState_), the command the robot applied at tick k is the one the brain wrote for that state (lockstep:
     a command answers its tick's state), and the brain's own columns agree with its summary (every tick's
-    duration, the missed deadlines, the controller's ticks). No value is NaN."""
+    duration, the missed deadlines, the controller's ticks). No value is NaN. The two files alone give the
+    robot's score of the estimate (scored live from rt/gaitshift/estimate) back: the same estimates, ticks
+    and truth by another road."""
     from gaitshift.dds.record import meet
     from gaitshift.robots import load_robot
 
@@ -116,6 +118,12 @@ def check_recordings(brain_file, robot_file, s):
         assert np.abs(b[key][applied] - r[key][rows][applied]).max() < 1e-4 * max(1.0, np.abs(b[key]).max())
     assert np.percentile(b["duration"], 50) * 1e3 == pytest.approx(s["tick_p50_ms"], rel=1e-9)
     assert b["missed"].sum() == s["missed_deadlines"] and b["estimated"].sum() == s["locomotion_ticks"]
+    from gaitshift.dds.scoring import score_recordings
+
+    score = score_recordings(b, r)
+    assert score.estimates_scored == r_summary["estimates_scored"] and score.estimates_unmatched == 0
+    for key in ("est_velocity_rmse", "est_tilt_rmse", "est_height_rmse", "est_contact_accuracy", "est_yaw_drift"):
+        assert getattr(score, key) == pytest.approx(r_summary[key], rel=1e-9, abs=1e-12), key
 
 
 def test_a_lossy_late_link_still_walks_the_plan(tmp_path):

@@ -27,7 +27,7 @@ import numpy as np
 
 from gaitshift.common.rotations import roll_pitch_yaw, tilt_error
 
-__all__ = ["KEEP", "EstimateScore", "ScoreSummary", "yaw_of"]
+__all__ = ["KEEP", "EstimateScore", "ScoreSummary", "score_recordings", "yaw_of"]
 
 #: ticks of truth kept (8 s at 2 ms): an estimate about an older tick is counted as unmatched
 KEEP = 4096
@@ -92,21 +92,26 @@ class EstimateScore:
     def add(self, msg: Any) -> None:
         """Score one Estimate_ (ignored when not valid; counted unmatched when its tick is not kept)."""
         self.received += 1
-        if not msg.valid:
-            return
-        i = int(msg.tick) % self.keep
-        if self.tick[i] != int(msg.tick):
+        if msg.valid:
+            self.score(int(msg.tick), msg.base_pos, msg.base_quat, msg.base_vel, list(msg.contact[:2]))
+
+    def score(self, tick: int, base_pos: Any, base_quat: Any, base_vel: Any, contact: Any) -> None:
+        """Score the estimate of tick ``tick``: the pelvis position (3,) m, quaternion (4,) w x y z, linear
+        velocity (3,) m/s in the estimate's frame, the contact flags (2,) (unmatched when the tick's truth
+        is not kept)."""
+        i = tick % self.keep
+        if self.tick[i] != tick:
             self.unmatched += 1
             return
-        pos, quat = np.asarray(msg.base_pos, float), np.asarray(msg.base_quat, float)
+        pos, quat = np.asarray(base_pos, float), np.asarray(base_quat, float)
         quat = quat / max(float(np.linalg.norm(quat)), 1e-12)
         t_pos, t_quat = self.pose[i, :3], self.pose[i, 3:]
         yaw_e, yaw_t = yaw_of(quat), yaw_of(t_quat)
-        dv = _heading_velocity(np.asarray(msg.base_vel, float), yaw_e) - _heading_velocity(self.vel[i], yaw_t)
+        dv = _heading_velocity(np.asarray(base_vel, float), yaw_e) - _heading_velocity(self.vel[i], yaw_t)
         self.sq_vel.append(float(dv @ dv))
         self.tilt.append(float(tilt_error(quat, t_quat)))
         self.height.append(float(pos[2] - t_pos[2]))
-        flags = np.array(list(msg.contact[:2]), int) != 0  # uint8[2]: bytes once off the wire, a list before
+        flags = np.array(list(contact), int) != 0  # uint8[2]: bytes once off the wire, a list before
         self.contact_hits += int(np.sum(flags == self.touch[i]))
         dyaw = math.remainder(yaw_e - yaw_t, math.tau)
         self.last = (dyaw, pos[:2] - t_pos[:2])
@@ -131,3 +136,24 @@ class EstimateScore:
             drift_yaw,
             drift_pos,
         )
+
+
+def score_recordings(brain: Any, robot: Any) -> ScoreSummary:
+    """The robot's score (module docstring) of the estimates in a brain's recording against the truth in
+    the robot's (:mod:`gaitshift.dds.record`; ``brain``, ``robot``: the loaded files): what the robot's
+    summary says of a run, from its two files alone (``estimates_received`` counts the brain's rows)."""
+    ticks = np.asarray(robot["tick"], np.int64)
+    score = EstimateScore(keep=int(ticks.max(initial=0)) + 1)
+    for k, qpos, qvel, touching in zip(ticks, robot["qpos"], robot["qvel"], robot["touching"], strict=True):
+        score.truth(int(k), qpos, qvel, touching > 0.5)
+    est = np.asarray(brain["estimated"]) > 0.5
+    score.received = len(est)
+    for k, qpos, qvel, contact in zip(
+        np.asarray(brain["tick"], np.int64)[est],
+        brain["est_qpos"][est],
+        brain["est_qvel"][est],
+        brain["est_contact"][est],
+        strict=True,
+    ):
+        score.score(int(k), qpos[:3], qpos[3:7], qvel[:3], contact > 0.5)
+    return score.summary()
