@@ -58,13 +58,8 @@ def check_mass_scale(scale: object) -> float:
 
 def scaled_masses(model: Any, scale: float) -> Any:
     """A copy of the MuJoCo ``model`` with ``body_mass`` and ``body_inertia`` times ``scale`` (module
-    docstring), or ``model`` itself when ``scale`` is 1."""
-    if scale == 1.0:
-        return model
-    out = copy.copy(model)
-    out.body_mass[:] = model.body_mass * scale
-    out.body_inertia[:] = model.body_inertia * scale
-    return with_constants(out)
+    docstring), or ``model`` itself when ``scale`` is 1 (:func:`perturbed_physics` with nothing else changed)."""
+    return perturbed_physics(model, scale, (0.0, 0.0, 0.0), 1.0, 0)
 
 
 def with_constants(model: Any) -> Any:
@@ -94,15 +89,16 @@ def perturbed_physics(model: Any, mass_scale: float, com_offset: Any, motor_stre
     """The physics model of the simulated robot (module docstring): ``model`` with its masses times
     ``mass_scale``, body ``base``'s CoM moved by ``com_offset`` (3,) m and the actuator gears times
     ``motor_strength``; ``model`` itself when nothing changes."""
-    out = scaled_masses(model, mass_scale)
     offset = np.asarray(com_offset, dtype=float)
-    if not np.any(offset) and motor_strength == 1.0:
-        return out
-    out = copy.copy(out) if out is model else out
+    if mass_scale == 1.0 and not np.any(offset) and motor_strength == 1.0:
+        return model
+    out = copy.copy(model)
+    out.body_mass[:] = model.body_mass * mass_scale
+    out.body_inertia[:] = model.body_inertia * mass_scale
     out.body_ipos[base] = model.body_ipos[base] + offset
     out.actuator_gear[:, 0] = model.actuator_gear[:, 0] * motor_strength
     out.jnt_actfrcrange[:] = model.jnt_actfrcrange * motor_strength  # the joint's own clamp follows
-    return with_constants(out)
+    return with_constants(out)  # once, after every change
 
 
 def check_joint_vel_noise(noise: object) -> float:
