@@ -297,17 +297,18 @@ def _loop(brain: _Brain, signals: StopSignals) -> None:
         if signals.why:
             safety.stop(t, f"stopped by {signals.why}")
         kind = brain.control(t, age)
-        end = time.perf_counter()
-        brain.log.add(end - start, kind, end - start > period)
+        duration = time.perf_counter() - start
+        missed = duration > period
+        brain.log.add(duration, kind, missed)
         if brain.recorder is not None:
-            record(brain, t, end - start, kind)
+            record(brain, t, duration, kind, missed)
 
 
-def record(brain: _Brain, t: float, duration: float, kind: int) -> None:
-    """The tick's row of the recording (:mod:`gaitshift.dds.record`)."""
+def record(brain: _Brain, t: float, duration: float, kind: int, missed: bool) -> None:
+    """The tick's row of the recording (:mod:`gaitshift.dds.record`), as the tick log has it."""
     assert brain.recorder is not None
     rec = brain.ctrl.record if kind else None
-    scalars = {"t": t, "duration": duration, "missed": duration > brain.period, "fresh": brain.fresh, "kind": kind}
+    scalars = {"t": t, "duration": duration, "missed": missed, "fresh": brain.fresh, "kind": kind}
     phase = PHASES.index(brain.safety.phase)
     brain.recorder.add(**brain_row(brain.handled, brain.frame_now, brain.last, rec, phase=phase, **scalars))
 
