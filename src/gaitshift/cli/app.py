@@ -11,7 +11,7 @@ from pathlib import Path
 
 import typer
 
-from gaitshift.common.atomic import check_name
+from gaitshift.common.atomic import check_name, check_suffix
 from gaitshift.errors import InputError
 
 app = typer.Typer(
@@ -30,8 +30,7 @@ def out_file(path: Path, flag: str, suffixes: tuple[str, ...]) -> Path:
     Raises:
         InputError: naming ``flag``, the path and what is allowed.
     """
-    if path.suffix.lower() not in suffixes or not path.stem:
-        raise InputError(flag, str(path), "a file name ending in " + ", ".join(suffixes))
+    check_suffix(path, flag, suffixes)
     check_name(path, flag)
     if path.exists() and not path.is_file():
         raise InputError(flag, str(path), "a file path (this is a folder or a special file)")

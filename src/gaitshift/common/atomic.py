@@ -41,6 +41,15 @@ def _is_dir(path: Path) -> bool:
         return False
 
 
+def check_suffix(path: object, field: str, suffixes: tuple[str, ...], what: str = "") -> Path:
+    """``path`` (a str or path) as a :class:`Path` whose name has a stem and ends in one of ``suffixes`` (in
+    any case); else :class:`InputError` naming ``field``, the value and the suffixes (then ``what``)."""
+    if not isinstance(path, str | os.PathLike) or Path(path).suffix.lower() not in suffixes or not Path(path).stem:
+        value = str(path) if isinstance(path, str | os.PathLike) else path
+        raise InputError(field, value, "a file name ending in " + ", ".join(suffixes) + what)
+    return Path(path)
+
+
 def check_name(path: Path, field: str) -> None:
     """:class:`InputError` naming ``field`` when a name in ``path`` (the file's or a folder's) is longer
     than the file system allows (its NAME_MAX; the file's less :data:`TEMP_ROOM`, the room for its

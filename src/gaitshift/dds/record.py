@@ -38,9 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.common.atomic import atomic_path
+from gaitshift.common.atomic import atomic_path, check_suffix
 from gaitshift.dds.safety import PHASES
-from gaitshift.errors import InputError
 
 __all__ = [
     "BLOCK",
@@ -108,10 +107,8 @@ BLOCK = 4096
 
 def check_record(path: object) -> None:
     """``--record``: None, or a path (str or Path) whose name ends in ``.npz``; else :class:`InputError`."""
-    if path is None:
-        return
-    if not isinstance(path, str | Path) or Path(path).suffix.lower() != ".npz" or not Path(path).stem:
-        raise InputError("--record", path, "a file name ending in .npz")
+    if path is not None:
+        check_suffix(path, "--record", (".npz",))
 
 
 def _widths(columns: dict[str, tuple[int, int, int, int]], n: int, nq: int, nv: int) -> dict[str, int]:

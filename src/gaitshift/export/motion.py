@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from gaitshift.common.atomic import atomic_path
+from gaitshift.common.atomic import atomic_path, check_suffix
 from gaitshift.errors import InputError
 from gaitshift.export.formats import FORMATS, ExportFormat, Frames
 from gaitshift.export.resample import resample
@@ -36,9 +36,7 @@ def check_request(fmt: str, fps: int | None, out: str | Path) -> tuple[ExportFor
     if spec.fixed_fps is not None and rate != spec.fixed_fps:
         allowed = f"{spec.fixed_fps} Hz for {fmt} (the consumer plays one frame per {spec.fixed_fps} Hz step)"
         raise InputError("fps", fps, allowed)
-    out = Path(out)
-    if out.suffix.lower() != spec.suffix or not out.stem:
-        raise InputError("out", str(out), f"a file name ending in {spec.suffix} for {fmt}")
+    check_suffix(out, "out", (spec.suffix,), f" for {fmt}")
     return spec, rate
 
 

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from gaitshift.common.atomic import atomic_path
+from gaitshift.common.atomic import atomic_path, check_suffix
 from gaitshift.errors import InfeasibleError, InputError
 
 #: rate of the 3D frames (body frames, support polygons), Hz
@@ -58,8 +58,7 @@ def check_rrd(path: Path) -> Path:
     Raises:
         InputError: not a .rrd name, or rerun-sdk missing.
     """
-    if Path(path).suffix.lower() != ".rrd" or not Path(path).stem:
-        raise InputError("--rerun", str(path), "a file name ending in .rrd")
+    check_suffix(path, "--rerun", (".rrd",))
     rerun_module()
     return Path(path)
 
