@@ -6,7 +6,7 @@ Per tick::
                                                      contact flags at this tick (the fused contact)
     x_ctrl   = x_hat (estimated) | frame.oracle      one state for controller, driver and step feedback
     x_ctrl   = predict(x_ctrl, pending commands)     latency and age compensation (control.prediction)
-    data.qpos, qvel = x_ctrl; mj_forward            the controller's OWN MjData (contacts off)
+    data.qpos, qvel = x_ctrl; forward_terms         the controller's OWN MjData (contacts off)
 
 The controller, the driver and the step feedback read only :class:`StateView`: the controller's
 ``MjData`` (CoM = ``subtree_com[0]``, its velocity = ``subtree_linvel[0]``, frames and Jacobians all
@@ -72,7 +72,7 @@ from gaitshift.control.initial_pose import sensed_start
 from gaitshift.control.position_filter import PositionFilter
 from gaitshift.control.prediction import LatencyPredictor
 from gaitshift.errors import InputError
-from gaitshift.robots.model import RobotModel
+from gaitshift.robots.model import RobotModel, forward_terms
 
 #: friction coefficient the controller assumes unless told: conservative against rubber soles on a dry
 #: floor (0.6-1.0) and the simulated contact (1.0); the QP's pyramid |fx|, |fy| <= mu fz lets the
@@ -118,7 +118,8 @@ class StateView:
     """What the controller acts on at one tick.
 
     Attributes:
-        data: the controller's own ``MjData`` at that state (``mj_forward`` and ``mj_subtreeVel`` done).
+        data: the controller's own ``MjData`` at that state (:func:`~gaitshift.robots.model.forward_terms`
+            and ``mj_subtreeVel`` done: no accelerations, constraint forces or sensors).
         touching: (2,) bool stance flags; slip: (2,) bool stance soles sliding.
     """
 
@@ -329,7 +330,7 @@ class ControllerState:
         window.push(*self._measured, tau_est)
         if not window.full:
             return FootForces(normal=self._force0.copy())
-        d = window.centre_data(self.robot.model)
+        d = window.centre_data(self.cmodel)
         normal, cop = contact.sole_loads(d, window.mean_torque(), window.acceleration())
         return FootForces(normal=normal, cop=cop if self.stance_point == "cop" else None)
 
@@ -347,7 +348,7 @@ class ControllerState:
         q, v = self.predictor.predict(q, v, age)
         c = self.cdata
         c.qpos[:], c.qvel[:] = q, v
-        mujoco.mj_forward(self.cmodel, c)
+        forward_terms(self.cmodel, c)
         mujoco.mj_subtreeVel(self.cmodel, c)
         return StateView(data=c, touching=np.asarray(touching, bool), slip=np.asarray(slip, bool))
 

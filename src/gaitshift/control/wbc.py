@@ -358,7 +358,7 @@ class WholeBodyController:
     # ------------------------------------------------------------------ the QP
     def compute(self, data: mujoco.MjData, ref: TickReference) -> tuple[np.ndarray, TickInfo]:
         """Torques (nu,) for the current state. ``data`` must hold the forward quantities
-        (``mj_forward`` or ``mj_step1``) and ``mj_subtreeVel``."""
+        (:func:`~gaitshift.robots.model.forward_terms`, ``mj_forward`` or ``mj_step1``) and ``mj_subtreeVel``."""
         p = self.plant
         nv = self.nv
         vw = self._view(data)

@@ -37,7 +37,7 @@ from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.robots.mjcf import raw_model
 from gaitshift.robots.soles import contact_geoms
 
-__all__ = ["PERIOD_RANGE", "RobotModel", "SolePoints", "robot_model", "robot_spec", "standing_qpos"]
+__all__ = ["PERIOD_RANGE", "RobotModel", "SolePoints", "forward_terms", "robot_model", "robot_spec", "standing_qpos"]
 
 #: the control period = time step a model is compiled with, s
 PERIOD_RANGE = (0.001, 0.002)
@@ -114,6 +114,17 @@ class RobotModel:
         c, R = self.sole_frame(data, side)
         pts: np.ndarray = c + self.soles[side].points @ R.T
         return pts
+
+
+def forward_terms(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """The part of ``mj_forward`` a controller reads, at ``data``'s ``qpos``, ``qvel``: ``mj_fwdPosition``
+    (the frames, the CoM, ``cdof``, the mass matrix and its factor; collision where the model's contacts are
+    on) and ``mj_fwdVelocity`` (``cvel``, ``cdof_dot``, ``qfrc_passive``, ``qfrc_bias`` = ``b`` of eq. (1)
+    of :mod:`gaitshift.control.estimation.torque_contact`). Actuation, accelerations, constraint forces and
+    sensors are left out: on the G1 with its contacts off this takes 9 us where ``mj_forward`` takes 33 us
+    (its accelerometer alone asks for ``mj_rnePostConstraint``)."""
+    mujoco.mj_fwdPosition(model, data)
+    mujoco.mj_fwdVelocity(model, data)
 
 
 def check_period(control_period: float) -> float:

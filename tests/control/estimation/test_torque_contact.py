@@ -20,6 +20,8 @@ from gaitshift.control.controller import Controller
 from gaitshift.control.estimation.joints import JointVelocityFilter
 from gaitshift.control.estimation.torque_contact import TorqueContact, leg_dofs, second_difference_variance
 from gaitshift.control.frames import SensorFrame
+from gaitshift.robots.config import load_robot
+from gaitshift.wholebody.scaling import scale_scenario
 
 
 def _frame(c: Controller, t: float, q: np.ndarray, dq: np.ndarray) -> SensorFrame:
@@ -71,10 +73,11 @@ def test_the_legs_are_the_chains_from_the_soles_to_the_base(ctrl):
     assert len(leg_dofs(m, ctrl.robot.pelvis_body)) == 0
 
 
-def test_eq2_gives_back_the_qp_forces_at_rest(ctrl):
+@pytest.mark.parametrize("robot", ["g1", "h1", "t1"])  # legs of six joints (one batched solve), five and seven
+def test_eq2_gives_back_the_qp_forces_at_rest(robot):
     from gaitshift.control.frames import OracleState
 
-    c = Controller.from_scenario("g1-walk", state="oracle")
+    c = Controller.from_scenario(scale_scenario("g1-walk", load_robot(robot)), state="oracle")
     q0 = c.initial_qpos()
     frame = _frame(c, 0.0, q0, np.zeros(c.robot.model.nv))
     truth = OracleState(q0, np.zeros(c.robot.model.nv), np.ones(2, bool), np.zeros((2, 2)))
@@ -128,13 +131,14 @@ def test_a_robot_in_the_air_reads_no_sole_force(ctrl):
 def test_the_window_differentiates_a_constant_acceleration_exactly():
     """Joint angles and base velocity of a motion with constant accelerations (quadratic angles,
     linear velocities): the window's centre acceleration is exact, and the torque is the triangular
-    mean about the centre (a torque rising by one per tick reads the centre's)."""
+    mean about the centre (a torque rising by one per tick reads the centre's), also after the window
+    has moved on past its first ticks."""
     from gaitshift.control.estimation.torque_contact import AccelerationWindow
 
     n, dt, nj = 3, 0.002, 4
     acc_true = np.array([0.5, -1.0, 2.0, 0.1, 0.2, -0.3, 3.0, -2.0, 1.5, 0.25])
     w = AccelerationWindow(n, dt)
-    for k in range(2 * n + 1):
+    for k in range(2 * n + 4):  # three ticks more than the window holds: the oldest drop out
         t = k * dt
         qpos = np.zeros(7 + nj)
         qpos[7:] = 0.5 * acc_true[6:] * t * t + 0.1 * t
@@ -143,7 +147,7 @@ def test_the_window_differentiates_a_constant_acceleration_exactly():
         w.push(qpos, qvel, np.full(2, float(k)))
     assert w.full
     np.testing.assert_allclose(w.acceleration(), acc_true, rtol=1e-6, atol=1e-8)
-    np.testing.assert_allclose(w.mean_torque(), np.full(2, float(n)))
+    np.testing.assert_allclose(w.mean_torque(), np.full(2, float(n + 3)))  # the centre is tick n + 3
     assert w.weights.sum() == pytest.approx(1.0)
 
 
