@@ -41,6 +41,7 @@ import json
 import math
 import re
 from dataclasses import InitVar, dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -145,10 +146,10 @@ class Trajectory:
         object.__setattr__(self, "extras", extras)
 
     # ----------------------------------------------------------------- convenience
-    @property
+    @cached_property
     def dt(self) -> float:
         """Sampling step, s: ``meta["dt"]`` where the planner wrote it (exact, also for a window far into a
-        run, :mod:`gaitshift.trajectory.window`), else ``t[1] - t[0]``."""
+        run, :mod:`gaitshift.trajectory.window`), else ``t[1] - t[0]``; read once (a trajectory is frozen)."""
         step, first = self.meta.get("dt"), float(self.t[1] - self.t[0])
         if isinstance(step, float | int) and not isinstance(step, bool) and abs(step - first) <= 1e-6 * first:
             return float(step)
