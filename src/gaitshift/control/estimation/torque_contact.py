@@ -121,7 +121,7 @@ class TorqueContact:
         m = robot.model
         self.robot, self.model = robot, m
         chains = [leg_dofs(m, s.body) for s in robot.soles]
-        shared = np.intersect1d(*chains)  # on both chains (the T1's waist): both soles' wrenches load them
+        shared = np.intersect1d(chains[0], chains[1])  # on both chains (the T1's waist): both soles' wrenches load them
         self.legs = [np.setdiff1d(chain, shared) for chain in chains]
         if any(len(legs) < 3 for legs in self.legs):
             raise InputError("robot.soles", [len(legs) for legs in self.legs], "legs of at least 3 joints each")
