@@ -165,10 +165,8 @@ class TorqueContact:
         for s, sole in enumerate(self.robot.soles):
             centre, rot[s] = self.robot.sole_frame(data, s)
             mujoco.mj_jac(m, data, jac[s, :3], jac[s, 3:], centre, sole.body)
-        world = self._solve(jac, r)  # (2, 6): force, moment in the world frame
-        out = np.empty((2, 6))
-        out[:, :3] = np.einsum("si,sij->sj", world[:, :3], rot)
-        out[:, 3:] = np.einsum("si,sij->sj", world[:, 3:], rot)
+        world = self._solve(jac, r).reshape(2, 2, 3)  # per sole: force, moment in the world frame
+        out: np.ndarray = np.einsum("ski,sij->skj", world, rot).reshape(2, 6)  # in the sole frame
         return out
 
     def _solve(self, jac: np.ndarray, r: np.ndarray) -> np.ndarray:
