@@ -18,9 +18,9 @@ Hard constraints:
     * floating-base rows of (1) (6 equations);
     * non-sliding stance feet: ``J_s qdd + Jdot_s qd = -K_v v_s`` (6 per stance foot);
     * contact wrench cone per stance sole (Caron, Pham, Nakamura, ICRA 2015): w_s is a wrench that
-      forces at the sole's contact points, each in its friction pyramid ``|f_x|, |f_y| <= mu f_z``
-      (sole axes), can exert; this holds the CoP inside the sole and bounds the yaw moment. The faces
-      are those of the points' own cone (a rectangle's are Caron's 16 rows; the G1's trapezoid has 28);
+      forces at the sole's contact points, each in the friction pyramid ``|f_x| + |f_y| <= mu f_z``
+      inscribed in Coulomb's cone (sole axes), can exert; this holds the CoP inside the sole and
+      bounds the yaw moment. The faces are those of the points' own cone (32 for the G1's trapezoid);
     * per-foot normal-force cap ``F_z <= F_max`` (the touchdown/lift-off force ramp);
     * torque limits ``|tau| <= tau_max``.
 

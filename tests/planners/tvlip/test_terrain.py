@@ -79,7 +79,7 @@ def test_com_height_follows_the_terrain(planned):
     sc, traj = planned
     fs = traj.footsteps
     start, end = fs[:2, 2].mean(), fs[-2:, 2].mean()
-    assert traj.com_pos[0, 2] == pytest.approx(start + sc.height, abs=1e-9)
+    assert traj.com_pos[0, 2] == pytest.approx(start + sc.height, abs=1e-8)  # a KKT boundary row: 1.3e-9 on AMD EPYC
     assert traj.com_pos[-1, 2] == pytest.approx(end + sc.height, abs=1e-6)
     sup = traj.phase != FLIGHT
     above = traj.com_pos[sup, 2] - traj.zmp[sup, 2]
