@@ -7,7 +7,7 @@ per robot, scenario and contact sensing the falls over the seeds and the worst c
 base velocity RMSE (m/s) and tilt RMSE (rad) over them.
 
     PYTHONPATH=src .venv/bin/python benchmarks/robots_estimate.py OUT [--robots g1 t1 ...]
-        [--seeds 0 1 2] [--contact force torque] [--workers 2]
+        [--scenarios walk run ...] [--seeds 0 1 2] [--contact force torque] [--workers 2]
 """
 
 from __future__ import annotations
@@ -27,12 +27,12 @@ ROBOTS = ("g1", "t1", "h1", "berkeley", "op3")
 SCENARIOS = ("walk", "run", "walk-run-walk", "tour")
 
 
-def scenarios(folder: Path, robots: list[str]) -> list[str]:
+def scenarios(folder: Path, robots: list[str], which: list[str]) -> list[str]:
     """The scaled scenario files (written once), named ``<robot>-<scenario>.yaml``."""
     folder.mkdir(parents=True, exist_ok=True)
     names = []
     for robot in robots:
-        for name in SCENARIOS:
+        for name in which:
             path = folder / f"{robot}-{name}.yaml"
             if not path.exists():
                 g1 = f"g1-{name}"  # the G1 runs the built-in as it is
@@ -76,11 +76,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("out", type=Path)
     ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=ROBOTS)
+    ap.add_argument("--scenarios", nargs="+", default=list(SCENARIOS), choices=SCENARIOS)
     ap.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
     ap.add_argument("--contact", nargs="+", default=["force", "torque"], choices=["force", "torque"])
     ap.add_argument("--workers", type=int, default=2)
     args = ap.parse_args()
-    names = scenarios(args.out / "scenarios", args.robots)
+    names = scenarios(args.out / "scenarios", args.robots, args.scenarios)
     spec_data = {
         "name": "robots-estimate",
         "task": "simulate",
