@@ -9,8 +9,10 @@ flat sole), each carrying a force ``f_i`` inside the friction pyramid inscribed 
     |f_x| + |f_y| \\le \\mu f_z                                                        (1)
 
 (sole axes), whose four edges ``e_j = (+-mu, 0, 1), (0, +-mu, 1)`` lie on Coulomb's cone
-(:func:`pyramid_edges`). It is MuJoCo's own pyramidal cone of a ``condim 3`` contact (its edges are
-``n +- mu t_1``, ``n +- mu t_2``). The box ``|f_x|, |f_y| <= mu f_z`` reaches ``sqrt(2) mu f_z`` on its
+(:func:`pyramid_edges`). It has the shape of MuJoCo's pyramidal cone of a ``condim 3`` contact (edges
+``n +- mu t_1``, ``n +- mu t_2``), but MuJoCo takes ``t_1``, ``t_2`` from the contact normal alone (the
+world's axes on a level floor), so the two coincide only for a sole square to the world's axes
+(docs/simulation.md). The box ``|f_x|, |f_y| <= mu f_z`` reaches ``sqrt(2) mu f_z`` on its
 diagonals, outside both: a G1 running on it put its stance soles at that box's yaw-moment bound, which
 the floor's corners (friction 0.6 in the world, 0.45 assumed) could not carry, and the soles spun,
 1.1-1.7 rad/s median in stance (docs/simulation.md, "The pyramid inside Coulomb's cone").
