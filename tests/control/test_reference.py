@@ -70,6 +70,26 @@ def test_flight_bump_velocity_and_acceleration_are_the_time_derivatives_of_its_h
     assert z(1.2) - traj.foot_pos[i, 1, 2] == pytest.approx(0.04 * 4 * u * (1 - u))
 
 
+def test_correction_blend_velocity_and_acceleration_are_the_time_derivatives_of_its_position(run_plan):
+    traj, plan = run_plan
+    sched, shift = _state(traj, plan, swing_flight=False)
+    shift.offset[1] = (0.05, 0.3, 0.0)  # a lateral push's correction
+    i, h = 1200, 1e-4  # plan sample held fixed: only the blend depends on t
+
+    def xy(t):
+        return tick_reference(traj, plan, i, t, sched, shift, SwingSettings()).foot_pos[1, :2]
+
+    for t in (1.05, 1.2, 1.33):
+        ref = tick_reference(traj, plan, i, t, sched, shift, SwingSettings())
+        vel = ref.foot_vel[1, :2] - plan.foot_vel[i, 1, :2]
+        acc = ref.foot_acc[1, :2] - plan.foot_acc[i, 1, :2]
+        np.testing.assert_allclose(vel, (xy(t + h) - xy(t - h)) / (2 * h), rtol=1e-6, atol=1e-9)
+        np.testing.assert_allclose(acc, (xy(t + h) - 2 * xy(t) + xy(t - h)) / h**2, rtol=1e-4, atol=1e-6)
+    # the blend's peak rate at mid-swing: 1.875 x the correction over the swing's 0.4 s
+    mid = tick_reference(traj, plan, i, 1.2, sched, shift, SwingSettings())
+    assert mid.foot_vel[1, 1] - plan.foot_vel[i, 1, 1] == pytest.approx(1.875 * 0.3 / 0.4)
+
+
 def test_a_late_foot_keeps_descending_at_the_set_speed(run_plan):
     traj, plan = run_plan
     sched, shift = _state(traj, plan, swing_flight=False)

@@ -4,8 +4,13 @@
   (:class:`~gaitshift.control.feedback.PlanShift`), the plan's velocity and acceleration.
 * Stance feet: held where they stand (the reference is unused by the QP's stance constraints).
 * Swinging feet: the plan's sole path, translated by the plan shift, plus the foot's own capture-point
-  correction blended in with the minimum-jerk profile s(u) of the swing progress u
-  (:func:`gaitshift.gait.swing.min_jerk`); on terrain the corrected touchdown is clipped to the planned
+  correction ``delta`` blended in with the minimum-jerk profile s(u) of the swing progress u
+  (:func:`gaitshift.gait.swing.min_jerk`), with the blend's rates in the velocity and acceleration
+  references, ``delta s'(u) / T`` and ``delta s''(u) / T^2`` (``T`` the swing's planned duration; the
+  correction's own change from tick to tick is left out). Without them the swing PD's damping held the
+  foot back: the G1's foot lagged a lateral correction of 0.3 m by 5-9 cm through its swing
+  (``K_d |v| / K_p`` = 60 x 1.5 / 900 = 0.10 m at the blend's peak rate) and landed 4.6 cm short of it
+  (docs/robustness.md, "The swing's lag"); on terrain the corrected touchdown is clipped to the planned
   foothold's tread, the sole ``tread_half`` from its edges (a step adjusted onto a stair edge tips the foot)
   plus ``edge_sigmas`` standard deviations of the controller's position along x (the terrain is known in
   the world frame, the controller acts in its estimated one: a heel 3 cm short of the edge lands on it),
@@ -30,7 +35,7 @@ from gaitshift.control.feedback import PlanShift
 from gaitshift.control.plan_samples import PlanSamples
 from gaitshift.control.schedule import FootScheduler
 from gaitshift.control.wbc import TickReference
-from gaitshift.gait.swing import min_jerk
+from gaitshift.gait.swing import min_jerk, min_jerk_rates
 from gaitshift.trajectory.contract import Trajectory
 
 
@@ -83,6 +88,9 @@ def tick_reference(
             clamped = plan.terrain.clamp_sole(land_x, want, plan.tread_half, shift.settings.edge_sigmas * pos_std)
             shift.offset[s, 0] += clamped - want
         foot_ref[s] += shift.shift + shift.offset[s] * min_jerk(np.array(u))
+        ds, dds = min_jerk_rates(np.array(u))  # the blend's own rates: the reference moves as it is told to
+        foot_vel[s] += shift.offset[s] * (float(ds) / dur)
+        foot_acc[s] += shift.offset[s] * (float(dds) / dur**2)
         if sched.swing_flight[s] and 0.0 <= u <= 1.0:
             # running swing: fast rise after lift-off, set down with a vertical speed; scaled with speed
             peak = min(

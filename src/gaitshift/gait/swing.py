@@ -40,6 +40,15 @@ def min_jerk(u: FloatArray) -> FloatArray:
     return u**3 * (10.0 + u * (-15.0 + 6.0 * u))
 
 
+def min_jerk_rates(u: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The first two derivatives of :func:`min_jerk` in u, ``s'(u) = 30 u^2 (1 - u)^2`` and
+    ``s''(u) = 60 u (1 - u) (1 - 2u)``, shape of ``u``; 0 outside [0, 1] (the blend is held there)."""
+    u = np.asarray(u, float)
+    inside = (u >= 0.0) & (u <= 1.0)
+    w = 1.0 - u
+    return np.where(inside, 30.0 * u**2 * w**2, 0.0), np.where(inside, 60.0 * u * w * (1.0 - 2.0 * u), 0.0)
+
+
 def sextic_height_coefficients(z0: FloatLike, z1: FloatLike, apex: FloatLike) -> FloatArray:
     """Coefficients a_0..a_6 (in u) of the sextic with z(0)=z0, z(1)=z1, z(1/2)=apex and zero
     velocity and acceleration at u=0 and u=1. Inputs broadcast; output shape (..., 7).
