@@ -5,7 +5,8 @@ load on a sole at the ground level is found by the CUSUM within its expected del
 there rarely switches it on, and the same load above the ground band is left to the force trigger; in
 the plan's swing the latest sample releases the sole at once, and so does a rise off the sole's own
 stand; a sole that left the floor is on again as soon as it is back at the ground level (a landing),
-whatever its force and the plan; bad settings raise InputError."""
+whatever its force and the plan; a take-off seen by the IMU releases the soles that were on at once;
+bad settings raise InputError."""
 
 from __future__ import annotations
 
@@ -16,6 +17,8 @@ from gaitshift.control.estimation.contact import ContactDetector
 from gaitshift.control.estimation.contact_fusion import (
     CUSUM_SHIFT,
     CUSUM_THRESHOLD,
+    FLIGHT_OFF,
+    FLIGHT_ON,
     LAND_SPEED,
     LIFT_HEIGHT,
     NEAR_HEIGHT,
@@ -182,6 +185,35 @@ def test_a_sole_faster_than_a_loaded_one_can_move_is_off_in_the_plans_swing_and_
     trigger.release([True, False])
     assert trigger.contact.tolist() == [False, True]
     assert trigger.update_values([WEIGHT / 2, WEIGHT / 2]) == (True, True)  # the force switches it on again
+
+
+def test_a_take_off_seen_by_the_imu_releases_the_soles_on_at_once_and_leaves_a_landing_to_the_force():
+    """In a flight the pelvis's vertical specific force falls below FLIGHT_ON g: the sole that was on (in
+    the plan's swing) is off at that tick although its lagging force still reads the weight; a sole that
+    comes on during the flight (a landing, the pelvis still below 0 g) is left to its force; the flight
+    lasts until the specific force rises above FLIGHT_OFF g (a brief rise below it does not start a new
+    flight that would release the landing sole), and then the lagging force decides again. In the plan's
+    stance, or without the specific force, the flight rule does nothing."""
+    g = 9.81
+    take_off = np.array([False, False])  # the left sole lifts (the plan's swing), the right one swings
+    plan_right = np.array([False, True])  # later: the right sole's stance is due
+    load, swinging, at = np.array([WEIGHT, 0.0]), np.array([GROUND, HIGH]), np.full(2, GROUND)
+    det = _fusion()
+    assert det.update(load, swinging, np.zeros(2), take_off, specific_force=1.5 * g).tolist() == [True, False]
+    assert not det.flight
+    assert det.update(load, swinging, np.zeros(2), take_off, specific_force=-0.3 * g).tolist() == [False, False]
+    assert det.flight and det.airborne == [True, False] and det.veto == [True, False]
+    landing = np.array([WEIGHT, 0.2 * WEIGHT])  # the left sole's force still lags; the right one lands
+    assert det.update(landing, at, np.zeros(2), take_off, specific_force=-0.05 * g).tolist() == [False, True]
+    assert det.update(landing, at, np.zeros(2), plan_right, specific_force=0.2 * g).tolist() == [False, True]
+    assert det.flight  # below FLIGHT_OFF g: still the same flight, the landing sole kept
+    assert det.update(landing, at, np.zeros(2), plan_right, specific_force=0.5 * g).tolist() == [True, True]
+    assert not det.flight and det.airborne == [False, False]  # the lagging force decides again
+    for plan, a_v in ((np.array([True, False]), -0.3 * g), (take_off, None)):
+        other = _fusion()
+        other.update(load, swinging, np.zeros(2), plan, specific_force=1.5 * g)
+        assert other.update(load, swinging, np.zeros(2), plan, specific_force=a_v)[0]
+    assert FLIGHT_ON < 0.0 < FLIGHT_OFF
 
 
 @pytest.mark.parametrize(

@@ -79,9 +79,10 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
     fst[kernels.F_GROUND] = np.nan
     fst[kernels.F_STAND : kernels.F_STAND + 2] = np.nan
     recent, means = np.zeros((2, window)), np.zeros(2)
-    rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, LAND_SPEED]
+    rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, LAND_SPEED, fusion.flight_on, fusion.flight_off]
     par = np.array([on, off, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still, *rules])
-    fired = landed = 0
+    fired = landed = flights = airborne = 0
+    a_v = 9.81
     for _ in range(4000):
         normal = rng.uniform(-3.0, 14.0, 2)
         heights = rng.uniform(-1.5e-3, 3.0e-3, 2)  # in and out of the ground band (0.8 mm), and lifted (2 mm)
@@ -93,20 +94,26 @@ def test_contact_kernels_equal_the_classes(window, debounce, with_plan):
         flags = det.update_values(normal.tolist())
         det.release(fusion.veto)
         flags = (flags[0] and not fusion.veto[0], flags[1] and not fusion.veto[1])
-        fused = fusion.update_values(normal.tolist(), heights.tolist(), vz.tolist(), planned, speed.tolist())
+        a_v = float(np.clip(a_v + rng.normal(0.0, 2.0), -6.0, 12.0))  # a random walk through flights and stances
+        fused = fusion.update_values(normal.tolist(), heights.tolist(), vz.tolist(), planned, speed.tolist(), a_v)
         kernels.force_means(normal, recent, ist, means)
         kernels.force_trigger(means, det.on_force, det.off_force, debounce, ist)  # the veto's release included
         plan = -1 if planned is None else int(planned[0]) | int(planned[1]) << 1
-        kernels.fuse_contact(normal, means, heights, vel, plan, par, ist, fst)
+        kernels.fuse_contact(normal, means, heights, vel, plan, par, ist, fst, a_v)
         assert tuple(ist[kernels.I_STANCE : kernels.I_STANCE + 2]) == flags
         assert tuple(ist[kernels.I_FUSED : kernels.I_FUSED + 2]) == tuple(fused)
         assert fst[kernels.F_GROUND] == pytest.approx(
             fusion.ground if fusion.ground is not None else np.nan, nan_ok=True
         )
+        assert ist[kernels.I_FLIGHT] == int(fusion.flight)
+        assert tuple(ist[kernels.I_AIRBORNE : kernels.I_AIRBORNE + 2]) == tuple(fusion.airborne)
+        flights += int(fusion.flight)
+        airborne += int(any(fusion.airborne))
         fired += int(fused[0] != flags[0])
         landed += int(ist[kernels.I_LAND] + ist[kernels.I_LAND + 1])
     assert fired > 100  # the fused flags do depart from the force trigger's: the height and plan rules ran
     assert landed > 100  # and so did the landing rule
+    assert flights > 100 and airborne > 100  # and the flight rule
 
 
 def test_slip_lowpass_equals_the_detector():

@@ -1,4 +1,5 @@
-"""Foot contact fused from the sole force, the sole's height and speed from the estimate, and the plan.
+"""Foot contact fused from the sole force, the sole's height and speed from the estimate, the plan and the
+IMU's specific force.
 
 The truth a contact estimate is scored against is "the sole carries a nonzero normal force", and a
 force signal with noise ``s`` (std per sample) cannot tell a sole carrying ``< 2 s`` from an unloaded
@@ -15,7 +16,8 @@ sole's flag ``c_i`` combines, per tick:
   both from the estimate (``z = p_z + e_z . R (y + R_s p_j)`` over the sole's contact points ``p_j``);
   ``z_g`` is the lowest-point height of the last sole that was on with a confident force
   (``f > on``), so errors common to both soles (the unobservable drift of the base height) cancel;
-* ``vz_i``: the sole centre's estimated vertical speed.
+* ``vz_i``: the sole centre's estimated vertical speed;
+* ``a_v``: the IMU's specific force along the world vertical (the flight rule, "Flight" below).
 
 The rules (a Schmitt trigger on the force whose switching depends on the other cues)::
 
@@ -24,7 +26,7 @@ The rules (a Schmitt trigger on the force whose switching depends on the other c
                   or  (armed_i and |dz_i| < near and c_j and vz_i > -land)   a landing (c_j: the other sole)
     on -> off  if g_i < off  and not rest_i  and not (landing_i and |dz_i| < near),
                g_i = fbar_i if planned_i else min(fbar_i, f_i)
-    off        whenever veto_i = not planned_i and (lifted_i or |v_i| > swing)
+    off        whenever veto_i = not planned_i and (lifted_i or |v_i| > swing or airborne_i)
     lifted_i = z_i - z_s,i > lift and vz_i > still                      (it rose off its floor)
     S_i = max(0, S_i + (d / s^2) (f_i - d / 2)),  d = cusum_shift s       (reset when on or not near)
 
@@ -72,6 +74,24 @@ nothing observes the base height, and the estimate drifts there by far more than
 (g1-top-speed, seed 0: the landing sole's estimated lowest point crossed the remembered ground level
 76 mm above the floor, 23 ticks before it touched).
 
+**Flight.** In a flight no sole carries anything and the whole body falls freely: its centre of mass
+feels no specific force, and the IMU on the pelvis feels only what the legs' motion relative to it
+makes, which lifting the legs after a take-off makes negative (the G1 running, g1-run seed 1: the
+pelvis's vertical specific force is -6.4 to -2.0 m/s^2 through its flights (1st-99th percentile),
+3.7 m/s^2 or more on 95 % of its single-support ticks). So the IMU's specific force along the world
+vertical, ``a_v = e_z . R a_imu``, sees a take-off within a tick, where a force from the motors'
+torques lags it by its window (a median 6 ticks, 9 at p90, on g1-run). The flight rule is a Schmitt
+trigger on it with the thresholds ``flight_on`` < ``flight_off``:
+
+    flight  on  if a_v < flight_on,  off  if a_v > flight_off
+    airborne_i = sole i was on when the flight began       (cleared when the flight ends)
+
+and ``veto_i`` also holds for an airborne sole in the plan's swing. Only the soles on at the take-off
+are released: a running touch-down loads its sole with 15-25 % of the weight for 5-10 ms while the
+pelvis still reads ``a_v < 0`` (g1-run: -2 to -0.2 m/s^2 with 50-90 N on the heel), and a sole that
+comes on in the flight is that landing; the wide hysteresis keeps the flight on through it, so the
+landing does not start a new flight that would release it.
+
 The height cue only adds contact where the force is ambiguous: a sole far from the ground level
 (a stair, a ramp, a drifting height) falls back to the force trigger alone.
 """
@@ -100,6 +120,9 @@ SWING_SPEED = 1.0
 #: it and does not land on it (module docstring, "Landing": landing soles measured at 0.03-0.19 m/s; soles
 #: passing an upper tread's level on g1-stairs-down, seed 0, at 0.55-0.81 m/s)
 LAND_SPEED = 0.3
+#: the flight rule's thresholds on the IMU's vertical specific force, in g (module docstring, "Flight"):
+#: below FLIGHT_ON the body is in a flight, above FLIGHT_OFF a sole carries it again
+FLIGHT_ON, FLIGHT_OFF = -0.1, 0.3
 #: CUSUM target shift in std of one force sample, and its decision threshold (log-likelihood ratio)
 CUSUM_SHIFT, CUSUM_THRESHOLD = 0.7, 2.0
 
@@ -112,6 +135,7 @@ class ContactFusion:
         force_std: std of one force sample, N (> 0).
         window: samples of the mean force (>= 1).
         near: height band of the ground level, m; still: vertical speed of a resting sole, m/s.
+        gravity: g, m/s^2 (the flight rule's thresholds are FLIGHT_ON g and FLIGHT_OFF g).
     """
 
     def __init__(
@@ -122,6 +146,7 @@ class ContactFusion:
         window: int = 1,
         near: float = NEAR_HEIGHT,
         still: float = STILL_SPEED,
+        gravity: float = 9.81,
     ):
         if not 0.0 <= off_force < on_force:
             raise InputError("contact.off_force", off_force, f"0 <= off_force < on_force = {on_force}")
@@ -131,6 +156,7 @@ class ContactFusion:
             raise InputError("contact.window", window, "an integer >= 1 (samples)")
         self.on_force, self.off_force, self.window = float(on_force), float(off_force), int(window)
         self.near, self.still = float(near), float(still)
+        self.flight_on, self.flight_off = FLIGHT_ON * float(gravity), FLIGHT_OFF * float(gravity)
         d = CUSUM_SHIFT * force_std
         self.cusum_gain, self.cusum_half = d / force_std**2, d / 2.0  # CUSUM increment (f - half) gain
         self.reset()
@@ -147,6 +173,9 @@ class ContactFusion:
         self._armed = [False, False]  # module docstring, "Landing"
         #: per sole (2,): on by a landing, its force not yet confirming it (module docstring, ``landing_i``)
         self.landing = [False, False]
+        #: the body is in a flight (module docstring, "Flight"); per sole (2,): it was on when the flight began
+        self.flight = False
+        self.airborne = [False, False]
 
     def update(
         self,
@@ -155,12 +184,14 @@ class ContactFusion:
         vz: np.ndarray,
         planned: np.ndarray | None = None,
         speed: np.ndarray | None = None,
+        specific_force: float | None = None,
     ) -> np.ndarray:
         """One tick: normal forces (2,) N, lowest-point heights (2,) m, vertical speeds (2,) m/s and
         world speeds (2,) m/s (None: ``|vz|``) of the soles (estimate, world frame), the plan's contact
-        flags (2,) or None; the flags (2,) bool, a shared read-only array."""
+        flags (2,) or None, the IMU's specific force along the world vertical, m/s^2 (None: no flight
+        rule); the flags (2,) bool, a shared read-only array."""
         speeds = None if speed is None else speed.tolist()
-        return self.update_values(force.tolist(), height.tolist(), vz.tolist(), planned, speeds)
+        return self.update_values(force.tolist(), height.tolist(), vz.tolist(), planned, speeds, specific_force)
 
     def update_values(
         self,
@@ -169,11 +200,14 @@ class ContactFusion:
         vz: list[float],
         planned: np.ndarray | None = None,
         speeds: list[float] | None = None,
+        specific_force: float | None = None,
     ) -> np.ndarray:
         """:meth:`update` with the forces, heights and speeds as plain floats (2,) each (the estimator's
         per-tick path)."""
         plans = (True, True) if planned is None else planned.tolist()
         has_plan = planned is not None
+        if specific_force is not None:
+            self._flight(specific_force)
         v = [abs(vz[0]), abs(vz[1])] if speeds is None else speeds
         left = self._sole(0, forces[0], heights[0], vz[0], v[0], plans[0], has_plan)
         right = self._sole(1, forces[1], heights[1], vz[1], v[1], plans[1], has_plan)
@@ -185,6 +219,16 @@ class ContactFusion:
             if loaded and -self.still < vz[i] < self.still:
                 self._stand[i] = heights[i]
         return FLAG_PAIRS[left, right]
+
+    def _flight(self, a_v: float) -> None:
+        """The flight rule's Schmitt trigger on the vertical specific force ``a_v`` (m/s^2), and the soles
+        airborne with it (module docstring, "Flight")."""
+        began = not self.flight and a_v < self.flight_on
+        self.flight = a_v <= self.flight_off if self.flight else began
+        if began:
+            self.airborne = [self._state[0], self._state[1]]
+        elif not self.flight:
+            self.airborne = [False, False]
 
     def _sole(self, i: int, f: float, height: float, v: float, speed: float, plan: bool, has_plan: bool) -> bool:
         """The rules of the module docstring for sole ``i``: its new flag."""
@@ -198,7 +242,7 @@ class ContactFusion:
         rest = near and -self.still < v < self.still
         stand = self._stand[i]
         lifted = stand is not None and height - stand > LIFT_HEIGHT and v > self.still
-        veto = self.veto[i] = has_plan and not plan and (lifted or speed > SWING_SPEED)
+        veto = self.veto[i] = has_plan and not plan and (lifted or speed > SWING_SPEED or self.airborne[i])
         landing = self.landing[i] and near
         if veto:
             on = landing = False

@@ -10,7 +10,9 @@ Per tick (period ``dt``)::
     x_w      = p + R y,   v_w = v + R (w x y + dy/dt)     every point y of kin (soles, CoM, base origin)
     w_i      = R (w_imu + R_S^T (J_rot,i - J_rot,S) qd)    sole angular velocity, world (low-passed)
     slip_i   = SlipDetector(stance, v_w,i, w_i, R R_i)      the slowest point of the support slides
-    contact  = ContactFusion(forces, z_low, vz, planned)  force, sole height and plan fused (contact_fusion.py)
+    a_v      = e_z . R a_imu                              the IMU's specific force along the world vertical
+    contact  = ContactFusion(forces, z_low, vz, planned, a_v)  force, sole height, plan and flight fused
+                                                          (contact_fusion.py)
 
 The slip test (:mod:`gaitshift.control.estimation.slip`) low-passes the sole's twist (time constant
 ``slip_tau``, reset in swing) and flags a stance sole when the slowest point of its support polygon
@@ -141,7 +143,7 @@ class StateEstimator:
         )
         c = self.contact
         force_std = max(c.on_force / ON_SIGMAS, 1e-9) * math.sqrt(c.window)  # one sample (noise_thresholds)
-        self.fusion = ContactFusion(c.on_force, c.off_force, force_std, c.window)
+        self.fusion = ContactFusion(c.on_force, c.off_force, force_std, c.window, gravity=gravity)
         pts = sole_points if sole_points is not None else (np.zeros((1, 3)), np.zeros((1, 3)))
         left, right = (np.asarray(p, float).reshape(-1, 3) for p in pts)
         self._sole_point_list = [[tuple(p) for p in pts.tolist()] for pts in (left, right)]  # plain floats
@@ -267,7 +269,8 @@ class StateEstimator:
         slip = FLAG_PAIRS[self.slip.update((left, right), rows[4:6], rates, self._sole_twist)]
         heights = self._lowest(rot[2].dot(kin.feet.rot).tolist(), rows)
         speeds = [math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) for v in rows[4:6]]
-        fused = self.fusion.update_values(normal, heights, [rows[4][2], rows[5][2]], planned, speeds)
+        a_v = float(rot[2].dot(imu.accel))  # the specific force along the world vertical (the flight rule)
+        fused = self.fusion.update_values(normal, heights, [rows[4][2], rows[5][2]], planned, speeds, a_v)
         quat = np.empty(4)
         if self._axes_are_base:
             mujoco.mju_mat2Quat(quat, rot.reshape(9))

@@ -34,7 +34,8 @@ import numpy as np
 I_STANCE, I_COUNT, I_FILLED, I_FUSED, I_MOVING, I_VETO = 0, 2, 4, 6, 8, 10
 I_STARTED = 12  # the joint filter has started
 I_ARMED, I_LAND = 13, 15  # (2,) each: the sole rose off the ground level; a landing holds it on (contact_fusion.py)
-IST_SIZE = 17
+I_FLIGHT, I_AIRBORNE = 17, 18  # the body is in a flight; (2,) the sole was on when it began (contact_fusion.py)
+IST_SIZE = 20
 # fst: float64 state
 F_CUSUM, F_VEL_LP, F_SPEED, F_GROUND = 0, 2, 6, 8  # cusum (2), vel_lp (2 x 2), speed (2), ground (NaN: none)
 F_OMEGA = 9  # (3,) this tick's bias-corrected IMU rate, rad/s
@@ -287,18 +288,25 @@ def lowest_heights(
 @numba.njit(cache=True)
 def fuse_contact(
     normal: np.ndarray, means: np.ndarray, heights: np.ndarray, vel: np.ndarray, planned: int,
-    par: np.ndarray, ist: np.ndarray, fst: np.ndarray,
+    par: np.ndarray, ist: np.ndarray, fst: np.ndarray, a_v: float,
 ) -> None:  # fmt: skip
     """The rules of contact_fusion.py: per sole, force mean ``means``, latest sample ``normal`` (N),
     lowest-point height ``heights`` (m) against the ground level ``fst[F_GROUND]`` (NaN: none yet),
     world velocity ``vel`` (2, 3) of its centre (m/s: ``vz``, the speed), the plan's flags ``planned``
-    (bits 0, 1; -1: no plan); ``par`` = [on, off, cusum gain, cusum half shift, near, still, cusum
-    threshold, lift, swing speed, land speed]. Updates the flags ``ist[I_FUSED]`` and ``ist[I_VETO]``, the CUSUMs,
-    the ground level (the sole(s) on with ``f > on``) and the soles' stands (those of them still)."""
+    (bits 0, 1; -1: no plan), the IMU's vertical specific force ``a_v`` (m/s^2; NaN: no flight rule);
+    ``par`` = [on, off, cusum gain, cusum half shift, near, still, cusum threshold, lift, swing speed,
+    land speed, flight on, flight off]. Updates the flags ``ist[I_FUSED]`` and ``ist[I_VETO]``, the
+    flight (``ist[I_FLIGHT]``, ``ist[I_AIRBORNE]``), the CUSUMs, the ground level (the sole(s) on with
+    ``f > on``) and the soles' stands (those of them still)."""
     on_f, off_f, gain, half, near_h, still, thresh = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
     lift, swing, land = par[7], par[8], par[9]
     has_plan = planned >= 0
     ground = fst[F_GROUND]
+    if not math.isnan(a_v):  # the flight rule's Schmitt trigger (ContactFusion._flight)
+        began = ist[I_FLIGHT] == 0 and a_v < par[10]
+        ist[I_FLIGHT] = int(a_v <= par[11]) if ist[I_FLIGHT] != 0 else int(began)
+        for i in range(2):  # on at the flight's start; cleared when it ends
+            ist[I_AIRBORNE + i] = ist[I_FUSED + i] if began else ist[I_AIRBORNE + i] * ist[I_FLIGHT]
     for i in range(2):
         plan = (not has_plan) or (planned >> i) & 1 == 1
         f, mean = normal[i], means[i]
@@ -306,7 +314,7 @@ def fuse_contact(
         vz, speed = vel[i, 2], math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
         rest = near and -still < vz < still
         lifted = heights[i] - fst[F_STAND + i] > lift and vz > still  # NaN: False
-        veto = ist[I_VETO + i] = has_plan and not plan and (lifted or speed > swing)
+        veto = ist[I_VETO + i] = has_plan and not plan and (lifted or speed > swing or ist[I_AIRBORNE + i] != 0)
         landing = ist[I_LAND + i] != 0 and near
         if veto:
             on = landing = False
@@ -388,7 +396,8 @@ def settle(
     need = slip_lowpass(stance, xv, omega, out[nj : 2 * nj], par[2], par[3], fst, ist, rates_lp)
     heights = lowest_heights(rot9, site_xmat, kin_idx, pts, xv)
     plan = int(planned[0] != 0) | int(planned[1] != 0) << 1 if has_plan else -1
-    fuse_contact(normal, means, heights, xv[4:6], plan, par[4:], ist, fst)
+    a_v = rot9[6] * accel[0] + rot9[7] * accel[1] + rot9[8] * accel[2]  # the specific force along the vertical
+    fuse_contact(normal, means, heights, xv[4:6], plan, par[4:], ist, fst, a_v)
     o = 2 * nj + 24
     mat_to_quat(out[o : o + 4], rot9)
     for r in range(3):

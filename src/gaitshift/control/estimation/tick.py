@@ -65,7 +65,7 @@ class CompiledTick:
         self.trigger = np.array([contact.on_force, contact.off_force, float(contact.debounce)])
         m = filt.mean_arrays(dt)
         fuse = [fusion.on_force, fusion.off_force, fusion.cusum_gain, fusion.cusum_half, fusion.near, fusion.still]
-        rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, LAND_SPEED]
+        rules = [CUSUM_THRESHOLD, LIFT_HEIGHT, SWING_SPEED, LAND_SPEED, fusion.flight_on, fusion.flight_off]
         self.par = np.array([dt, float(m.every), slip.alpha, slip.slip_speed, *fuse, *rules])
         n = max(len(p) for p in points)
         self.pts = np.array([np.concatenate([p, np.repeat(p[:1], n - len(p), axis=0)]) for p in points])
