@@ -13,13 +13,12 @@ two kernel calls around the five MuJoCo calls of the kinematics (docs/estimation
 The state of the force trigger, the fused contact and the slip low-pass lives in two arrays, ``ist``
 (int64) and ``fst`` (float64), indexed by the constants below; ``recent`` (2, window) holds the last
 force samples (oldest first), ``rates_lp`` (2, 3 + nj) the slip test's low-passed rate vectors.
-The quaternion routines are MuJoCo's (``engine_util_spatial.c``), term for term (MuJoCo's build fuses
-some products into FMAs: results agree to 1 ulp). Every compiled function of the estimator is in this one
-module: numba's cache checks the source file of the function it loads only, so a kernel calling into
-another module's compiled function could load stale code after an edit there.
-
-The compiled tick is not bit-identical to the Python path (sums in another order, the FMAs above): the
-estimates agree to ~1e-14 over a recorded run (tests/control/estimation/test_kernels.py).
+Every compiled function of the estimator is in this one module: numba's cache checks the source file of
+the function it loads only, so a kernel calling into another module's compiled function could load stale
+code after an edit there. The quaternion routines are MuJoCo's (``engine_util_spatial.c``), term for term;
+MuJoCo's build fuses some products into FMAs (results agree to 1 ulp) and the sums here run in another
+order than numpy's, so the compiled tick is not bit-identical to the Python path: the estimates agree to
+~1e-14 over a recorded run (tests/control/estimation/test_kernels.py).
 """
 
 from __future__ import annotations
@@ -29,8 +28,7 @@ import math
 import numba
 import numpy as np
 
-# ist: int64 state
-# two entries each (left, right); I_VETO: the kinematics ruled a load out at the last tick (contact_fusion.py)
+# ist: int64 state, two entries each (left, right); I_VETO: the kinematics ruled a load out at the last tick
 I_STANCE, I_COUNT, I_FILLED, I_FUSED, I_MOVING, I_VETO = 0, 2, 4, 6, 8, 10
 I_STARTED = 12  # the joint filter has started
 I_ARMED, I_LAND = 13, 15  # (2,) each: the sole rose off the ground level; a landing holds it on (contact_fusion.py)
@@ -41,7 +39,6 @@ F_CUSUM, F_VEL_LP, F_SPEED, F_GROUND = 0, 2, 6, 8  # cusum (2), vel_lp (2 x 2), 
 F_OMEGA = 9  # (3,) this tick's bias-corrected IMU rate, rad/s
 F_STAND = 12  # (2,) each sole's lowest-point height at its last confident load, m (NaN: none yet)
 FST_SIZE = 14
-# return code of settle
 # settle's return code: bits 0-1 fused contact, 2-3 stance (force trigger), SUPPORT << i: sole i's centre
 # moves (the support test, in Python, decides its slip flag), FILTER_STANCE << i: the filter's stance flags
 # (stance and centre not moving), CORRECT: the InEKF corrects at this tick (then settle(phase=1))
@@ -291,22 +288,18 @@ def fuse_contact(
     par: np.ndarray, ist: np.ndarray, fst: np.ndarray, a_v: float,
 ) -> None:  # fmt: skip
     """The rules of contact_fusion.py: per sole, force mean ``means``, latest sample ``normal`` (N),
-    lowest-point height ``heights`` (m) against the ground level ``fst[F_GROUND]`` (NaN: none yet),
-    world velocity ``vel`` (2, 3) of its centre (m/s: ``vz``, the speed), the plan's flags ``planned``
-    (bits 0, 1; -1: no plan), the IMU's vertical specific force ``a_v`` (m/s^2; NaN: no flight rule);
-    ``par`` = [on, off, cusum gain, cusum half shift, near, still, cusum threshold, lift, swing speed,
-    land speed, flight on, flight off]. Updates the flags ``ist[I_FUSED]`` and ``ist[I_VETO]``, the
-    flight (``ist[I_FLIGHT]``, ``ist[I_AIRBORNE]``), the CUSUMs, the ground level (the sole(s) on with
-    ``f > on``) and the soles' stands (those of them still)."""
+    lowest-point height ``heights`` (m) against the ground level ``fst[F_GROUND]`` (NaN: none yet), world
+    velocity ``vel`` (2, 3) of its centre (m/s: ``vz``, the speed), the plan's flags ``planned`` (bits 0,
+    1; -1: no plan), the IMU's vertical specific force ``a_v`` (m/s^2); ``par`` = [on, off, cusum gain,
+    cusum half shift, near, still, cusum threshold, lift, swing speed, land speed, flight on, flight off].
+    Updates the flags ``ist[I_FUSED]``, ``ist[I_VETO]``, the flight (``ist[I_FLIGHT]``, ``ist[I_AIRBORNE]``),
+    the CUSUMs, the ground level (the sole(s) on with ``f > on``) and the soles' stands (those still)."""
     on_f, off_f, gain, half, near_h, still, thresh = par[0], par[1], par[2], par[3], par[4], par[5], par[6]
     lift, swing, land = par[7], par[8], par[9]
     has_plan = planned >= 0
     ground = fst[F_GROUND]
-    if not math.isnan(a_v):  # the flight rule's Schmitt trigger (ContactFusion._flight)
-        began = ist[I_FLIGHT] == 0 and a_v < par[10]
-        ist[I_FLIGHT] = int(a_v <= par[11]) if ist[I_FLIGHT] != 0 else int(began)
-        for i in range(2):  # on at the flight's start; cleared when it ends
-            ist[I_AIRBORNE + i] = ist[I_FUSED + i] if began else ist[I_AIRBORNE + i] * ist[I_FLIGHT]
+    began = ist[I_FLIGHT] == 0 and a_v < par[10]  # the flight rule's Schmitt trigger (ContactFusion._flight)
+    ist[I_FLIGHT] = int(a_v <= par[11]) if ist[I_FLIGHT] != 0 else int(began)
     for i in range(2):
         plan = (not has_plan) or (planned >> i) & 1 == 1
         f, mean = normal[i], means[i]
@@ -314,7 +307,9 @@ def fuse_contact(
         vz, speed = vel[i, 2], math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
         rest = near and -still < vz < still
         lifted = heights[i] - fst[F_STAND + i] > lift and vz > still  # NaN: False
-        veto = ist[I_VETO + i] = has_plan and not plan and (lifted or speed > swing or ist[I_AIRBORNE + i] != 0)
+        # airborne: on at the flight's start (the last tick's flag), cleared when the flight ends
+        airborne = ist[I_AIRBORNE + i] = ist[I_FUSED + i] if began else ist[I_AIRBORNE + i] * ist[I_FLIGHT]
+        veto = ist[I_VETO + i] = has_plan and not plan and (lifted or speed > swing or airborne != 0)
         landing = ist[I_LAND + i] != 0 and near
         if veto:
             on = landing = False
@@ -358,8 +353,7 @@ def sense(
     force_trigger(means, trigger[0], trigger[1], int(trigger[2]), ist)
     nj = q.shape[0]
     if ist[I_STARTED] == 0:
-        x[0, :] = q
-        x[1, :] = qd
+        x[0, :], x[1, :] = q, qd
         ist[I_STARTED] = 1
     joint_filter(a, gain, x, q, qd)
     for j in range(nj):
