@@ -1,17 +1,29 @@
-"""Helpers of the locomotion tests: G1-sized plans from command scripts, and the stride-mean velocity
+"""Helpers of the locomotion tests: G1-sized plans from command scripts, a short G1 walk, and the stride-mean velocity
 computed independently from the file arrays (docs/locomotion.md, "Speed semantics")."""
 
 from __future__ import annotations
 
 import numpy as np
+import yaml
 
+import gaitshift
 from gaitshift.planners.locomotion.generator import LocomotionGenerator
 from gaitshift.planners.locomotion.params import params_from_scenario
 from gaitshift.planners.locomotion.plan import script_of
 from gaitshift.scenario.facts import RobotFacts
+from gaitshift.scenario.loader import builtin_text, load_scenario
 from gaitshift.scenario.locomotion import LocomotionScenario
 
 G1 = RobotFacts("g1", 33.34, 0.6333, 0.6922, (0.18, 0.07), 0.237)
+
+
+def short_g1_walk(steps: int = 3):
+    """The built-in g1-walk cut to ``steps`` steps (one accelerating, one decelerating), planned."""
+    data = yaml.safe_load(builtin_text("g1-walk"))
+    data["gait"] = [{"gait": "walk", "steps": steps}]
+    data["profile"] = dict(data["profile"], accelerate_steps=1, decelerate_steps=1)
+    data["name"] = f"g1-walk-{steps}"
+    return gaitshift.plan(load_scenario(data))
 
 
 def scenario(**kw):

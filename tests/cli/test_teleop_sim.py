@@ -43,7 +43,7 @@ def test_teleop_sim_viewer_opens_under_xvfb(tmp_path):
     assert xvfb is not None, "Xvfb is installed by .ci/system-deps (make test)"
     display = f":{90 + os.getpid() % 50}"
     server = subprocess.Popen(
-        [xvfb, display, "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
+        [xvfb, display, "-screen", "0", "640x480x24", "-nolisten", "tcp"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )

@@ -9,12 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import yaml
 
-import gaitshift
-from gaitshift.scenario.loader import builtin_text, load_scenario
 from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.pushes import Push
+from loco_checks import short_g1_walk
 
 #: logged arrays measured on the wall clock (the estimator's cost per tick, us): not deterministic
 WALL_CLOCK = {"est_tick_us"}
@@ -22,11 +20,7 @@ WALL_CLOCK = {"est_tick_us"}
 
 @pytest.fixture(scope="module")
 def short_walk():
-    data = yaml.safe_load(builtin_text("g1-walk"))
-    data["gait"] = [{"gait": "walk", "steps": 3}]
-    data["profile"] = dict(data["profile"], accelerate_steps=1, decelerate_steps=1)
-    data["name"] = "g1-walk-3"
-    return gaitshift.plan(load_scenario(data))
+    return short_g1_walk(3)
 
 
 def _opts(seed: int) -> SimOptions:

@@ -25,6 +25,7 @@ from gaitshift.sim.loop import SimOptions, simulate
 from gaitshift.sim.plant import build_plant
 from gaitshift.sim.sensor_spec import SOLE_TOUCH_SENSORS
 from gaitshift.sim.world import with_floor_friction
+from loco_checks import short_g1_walk
 
 
 @pytest.fixture(scope="module")
@@ -62,7 +63,9 @@ def _scrambler(model):
 
 
 @pytest.mark.parametrize("state", ["estimated", "oracle"])
-def test_scrambling_the_plant_truth_after_sensing_gives_a_bit_identical_run(walk, state):
+def test_scrambling_the_plant_truth_after_sensing_gives_a_bit_identical_run(state):
+    """On a 3-step walk (every contact transition of a walk: stand, lift-off, swing, touch-down, stop)."""
+    walk = short_g1_walk(3)
     plant = build_plant()
     scramble, restore = _scrambler(plant.model)
     opts = SimOptions(state=state, latency=2)
@@ -173,8 +176,8 @@ def test_ten_times_the_noise_gives_clearly_larger_estimation_errors(walk, defaul
     assert e10["tilt_rmse"] > 2 * e1["tilt_rmse"]
 
 
-def test_oracle_runs_report_the_estimator_alongside(walk):
-    met = simulate(walk, SimOptions(state="oracle", noise="none")).metrics
+def test_oracle_runs_report_the_estimator_alongside():
+    met = simulate(short_g1_walk(3), SimOptions(state="oracle", noise="none")).metrics
     assert met["state_source"] == "oracle"
     assert met["estimation"]["used_by_controller"] is False
     assert met["estimation"]["tilt_rmse"] < 0.01
