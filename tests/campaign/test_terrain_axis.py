@@ -62,6 +62,17 @@ def test_the_shipped_spec_crosses_every_perception_scenario_with_every_terrain()
     assert len(cases) == len(scenarios) * 3 * 3 and {c["terrain"] for c in cases} == {"known", "blind", "perceived"}
 
 
+def test_the_builtins_spec_holds_every_g1_builtin_on_terrain_perceived():
+    """docs/campaigns/g1-terrain-builtins.yaml (docs/perception.md, "perceived as the default"): every
+    built-in G1 scenario whose world has terrain, left to perceive it, seeds 0-2."""
+    from gaitshift.scenario.loader import builtin_names, load_scenario
+
+    on_terrain = {n for n in builtin_names() if n.startswith("g1-") and getattr(load_scenario(n), "terrain", ())}
+    cases = expand(load_spec(ROOT / "docs" / "campaigns" / "g1-terrain-builtins.yaml"))
+    assert {c["scenario"] for c in cases} == on_terrain and len(on_terrain) >= 7
+    assert len(cases) == 3 * len(on_terrain) and {c["terrain"] for c in cases} == {"perceived"}
+
+
 @pytest.mark.parametrize(
     ("task", "values", "field", "words"),
     [
