@@ -24,9 +24,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from browser_pages import headless_chromium, open_page
 from dds_processes import BRAIN_FLAGS, FakeController, finish, gaitshift, live_scenario
 
-CHROMIUM = "/usr/bin/chromium"
 #: offset 42 on test_robot_process.py's pid-derived base (see test_cmdvel.py): within DDS's 232
 DOMAIN = 100 + os.getpid() % 90 + 42
 LIVE = live_scenario("web-steered")
@@ -63,24 +63,10 @@ def set_vx(page, vx: float) -> float:
     return float(slider.get_attribute("aria-valuenow"))
 
 
-def open_page(browser, url: str):
-    """The page at ``url`` with its 3D canvas hidden: software WebGL drawing the robot at 60 frames/s would
-    take a core from the two processes on a 2-core machine (the scene's messages still arrive)."""
-    page = browser.new_page(viewport={"width": 800, "height": 600})
-    page.goto(url)
-    page.add_style_tag(content="canvas { display: none !important; }")
-    return page
-
-
 @pytest.fixture
 def browser():
-    assert os.access(CHROMIUM, os.X_OK), "Debian's chromium is installed by .ci/system-deps (make test)"
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as pw:
-        b = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
+    with headless_chromium() as b:
         yield b
-        b.close()
 
 
 def test_the_pages_slider_and_end_run_reach_the_brains_command_input(browser, tmp_path):

@@ -34,6 +34,12 @@ def walk():
 
 
 @pytest.fixture(scope="module")
+def short_walk():
+    """A 3-step walk: every contact transition of a walk (stand, lift-off, swing, touch-down, stop)."""
+    return short_g1_walk(3)
+
+
+@pytest.fixture(scope="module")
 def default_run(walk):
     return simulate(walk)
 
@@ -63,14 +69,12 @@ def _scrambler(model):
 
 
 @pytest.mark.parametrize("state", ["estimated", "oracle"])
-def test_scrambling_the_plant_truth_after_sensing_gives_a_bit_identical_run(state):
-    """On a 3-step walk (every contact transition of a walk: stand, lift-off, swing, touch-down, stop)."""
-    walk = short_g1_walk(3)
+def test_scrambling_the_plant_truth_after_sensing_gives_a_bit_identical_run(short_walk, state):
     plant = build_plant()
     scramble, restore = _scrambler(plant.model)
     opts = SimOptions(state=state, latency=2)
-    ref = simulate(walk, opts, plant=plant)
-    run = simulate(walk, opts, plant=plant, hooks=[restore], sense_hooks=[scramble])
+    ref = simulate(short_walk, opts, plant=plant)
+    run = simulate(short_walk, opts, plant=plant, hooks=[restore], sense_hooks=[scramble])
     assert not ref.fell
     for key in ("qpos", "qvel", "tau", "est_qpos", "est_contact"):
         assert np.array_equal(ref.arrays[key], run.arrays[key]), key
@@ -176,8 +180,8 @@ def test_ten_times_the_noise_gives_clearly_larger_estimation_errors(walk, defaul
     assert e10["tilt_rmse"] > 2 * e1["tilt_rmse"]
 
 
-def test_oracle_runs_report_the_estimator_alongside():
-    met = simulate(short_g1_walk(3), SimOptions(state="oracle", noise="none")).metrics
+def test_oracle_runs_report_the_estimator_alongside(short_walk):
+    met = simulate(short_walk, SimOptions(state="oracle", noise="none")).metrics
     assert met["state_source"] == "oracle"
     assert met["estimation"]["used_by_controller"] is False
     assert met["estimation"]["tilt_rmse"] < 0.01

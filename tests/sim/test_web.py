@@ -25,7 +25,8 @@ import mujoco
 import numpy as np
 import pytest
 
-CHROMIUM = "/usr/bin/chromium"
+from browser_pages import headless_chromium, open_page
+
 EXE = str(Path(sys.executable).parent / "gaitshift")
 
 
@@ -62,21 +63,13 @@ class _Proc:
 
 def test_browser_slider_changes_the_command_of_the_running_simulation(tmp_path):
     """Chromium moves vx: page, sim status line and the logged motion all follow."""
-    assert os.access(CHROMIUM, os.X_OK), "Debian's chromium is installed by .ci/system-deps (make test)"
-    from playwright.sync_api import sync_playwright
-
     out = tmp_path / "web.npz"
     port = _free_port()
     proc = _Proc([EXE, "teleop", "--sim", "--web", "--web-port", str(port), "--max-time", "120", "--out", str(out)])
     try:
-        with sync_playwright() as pw:
-            browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
+        with headless_chromium() as browser:
             url = proc.wait_line(r"web view: (http://\S+)", 60).group(1)
-            page = browser.new_page(viewport={"width": 800, "height": 600})
-            page.goto(url)
-            # the 3D canvas hidden: software WebGL drawing the robot at 60 frames/s would take a core from the
-            # simulation on a 2-core machine (the scene's messages still arrive; test_scene_poses_... checks them)
-            page.add_style_tag(content="canvas { display: none !important; }")
+            page = open_page(browser, url)  # its 3D canvas hidden (test_scene_poses_... checks the scene)
             page.get_by_text("commanded: vx = +0.00").wait_for(timeout=90_000)
             slider = page.get_by_role("slider").first  # vx
             box = slider.locator("xpath=..").bounding_box()
@@ -94,7 +87,6 @@ def test_browser_slider_changes_the_command_of_the_running_simulation(tmp_path):
             page.screenshot(path=str(tmp_path / "web_view.png"))
             proc.wait_line(r"walk\s+speed=\(\+0\.[1-9]", 90)  # the measured speed follows
             page.get_by_role("button", name="End run").click(timeout=120_000)  # a starved browser is slow, not wrong
-            browser.close()
         assert proc.p.wait(timeout=60) == 0, "".join(proc.err)[-2000:]
     finally:
         if proc.p.poll() is None:
