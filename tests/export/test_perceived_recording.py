@@ -8,6 +8,8 @@ up three 10 cm stairs it only sees), read back with the Rerun SDK and judged aga
 * ``world/footsteps`` holds every re-plan's footholds at the time of the re-plan: the first set (the
   blind plan) stands at z = 0 over the stairs, later sets move onto the treads, and the last set stands
   on the true treads (within 1 cm plus the estimate's height error);
+* ``world/elevation_map`` holds the map over time, every ``1 / MAP_RATE`` s and at the run's end, and no
+  snapshot holds a cell that the scans fused by its time had not reached;
 * the map's edge cells are their own entity, on the risers.
 """
 
@@ -18,11 +20,13 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 
 from gaitshift.export.sim_recording import record_simulation
 from gaitshift.models.terrain import Terrain
 from gaitshift.robots.sensors import DEPTH_CAMERA_SITE
 from gaitshift.scenario.terrain import terrain_of
+from gaitshift.sim.log import MAP_RATE
 from gaitshift.sim.scenario_run import simulate_scenario
 from rrd_files import read
 
@@ -104,14 +108,38 @@ def test_the_recording_holds_every_replans_footholds_moving_onto_the_true_treads
     assert np.abs(last[:, 2] - truth.height(last[:, 0])).max() < 0.01 + drift
 
 
+def timed_rows(rec, entity: str) -> list[tuple[float, np.ndarray]]:
+    """The (time s, points (N, 3) m) rows of a point-cloud entity, sorted by time."""
+    return sorted((t, np.asarray(v, dtype=float).reshape(-1, 3)) for t, v in rec[entity]["Points3D:positions"])
+
+
+def test_the_recorded_map_grows_over_time_from_what_the_scans_had_reached(perceived):
+    """Each snapshot of the map is the map of its time: every seen cell's centre lies within half a cell's
+    diagonal (in xy) of a scan point fused at or before that time. The map as the run ended, logged at
+    every snapshot's time, fails this: the first frame reaches x = 2.27 m, the final map 4.1 m."""
+    run, rec, _ = perceived
+    a = run.result.arrays
+    maps, scans = timed_rows(rec, "world/elevation_map"), timed_rows(rec, "world/scan")
+    t_map = np.array([t for t, _ in maps])
+    expected = np.r_[np.arange(0.0, a["t"][-1] - 1e-9, 1.0 / MAP_RATE), a["t"][-1]]  # the snapshots, the end
+    np.testing.assert_allclose(t_map, expected, atol=a["t"][1] - a["t"][0] + 1e-9)
+    half_diagonal = float(a["map_resolution"]) * np.sqrt(0.5) + 1e-6
+    sizes = []
+    for tk, cells in maps:
+        seen = np.concatenate([p for t, p in scans if t <= tk + 1e-9])
+        gap, _ = cKDTree(seen[:, :2]).query(cells[:, :2])
+        assert np.all(gap <= half_diagonal), (tk, gap.max())
+        sizes.append(len(cells))
+    assert sizes[-1] > 5 * sizes[0]  # seen cells accrue as the robot walks and looks
+
+
 def test_the_maps_edge_cells_are_their_own_entity_on_the_risers(perceived):
     """Where the robot walked (|y| < 0.5 m, up to 0.5 m past where its pelvis ended), every edge cell is
     within two cells of a true riser and each riser has its edge cells; far off, single noisy returns
     at the camera's range make edges too (not judged here)."""
     run, rec, truth = perceived
-    (_, edges), *_ = rec["world/elevation_map/edges"]["Points3D:positions"]
-    edges = np.asarray(edges, dtype=float)
-    (_, surface), *_ = rec["world/elevation_map"]["Points3D:positions"]
+    _, edges = timed_rows(rec, "world/elevation_map/edges")[-1]  # the map as the run ended
+    _, surface = timed_rows(rec, "world/elevation_map")[-1]
     assert 0 < len(edges) < len(surface)
     walked = (np.abs(edges[:, 1]) < 0.5) & (edges[:, 0] < run.result.arrays["qpos"][-1, 0] + 0.5)
     risers = np.array([b for b in truth.breaks() if b < 2.0])  # the three stairs (the landing ends at 4 m)

@@ -166,13 +166,18 @@ def test_a_bad_rerun_name_is_one_line_exit_2_and_no_file(tmp_path, capsys):
 
 
 def test_the_run_recording_holds_the_controllers_map_from_the_log(motions):
-    """The G1 has a depth camera: the recording's map cloud is the log's final map (one point per
-    seen cell, at the cell's centre and height) and the map under the left sole its logged height."""
+    """The G1 has a depth camera: the recording's last map cloud is the log's final map (one point per
+    seen cell, at the cell's centre and height), each earlier one is its logged snapshot, and the map
+    under the left sole its logged height."""
     rec = read(motions["g1-sim-rrd"])
     log = np.load(motions["g1-sim"])
     seen = log["map_seen"].astype(bool)
-    (t_map, cloud), *_ = rec["world/elevation_map"]["Points3D:positions"]
-    cloud = np.asarray(cloud, dtype=float)
+    maps = sorted((t, np.asarray(c, dtype=float)) for t, c in rec["world/elevation_map"]["Points3D:positions"])
+    assert len(maps) == len(log["map_t"]) + 1
+    for k, (tk, cells) in enumerate(maps[:-1]):
+        assert tk == pytest.approx(log["map_t"][k], abs=1e-6)
+        np.testing.assert_allclose(cells, log["map_cells"][log["map_cells_set"] == k], atol=1e-6)
+    t_map, cloud = maps[-1]
     assert t_map == pytest.approx(log["t"][-1], abs=1e-6) and len(cloud) == seen.sum() > 100
     r, corner = float(log["map_resolution"]), log["map_corner"]
     ij = np.floor((cloud[:, :2] - corner) / r).astype(int)

@@ -19,11 +19,13 @@ recording (:mod:`gaitshift.export.recording`), with measured and reference value
 ``world/support``                                 convex hull of the soles in measured contact
 ``world/bodies/<body>``                           every body frame, FK of the logged qpos
 ``world/elevation_map``                           a robot with a depth camera: the controller's map
-                                                  as the run ended (seen cells at their heights,
-                                                  coloured by height), at the last tick
+                                                  over time, its seen cells at their heights (coloured
+                                                  by height, one scale for the run), every
+                                                  ``1 / MAP_RATE`` s (:mod:`gaitshift.sim.log`) and
+                                                  as the run ended, at the last tick
 ``world/elevation_map/edges``                     its edge cells (a step of more than
                                                   :data:`~gaitshift.control.perception.EDGE_STEP` to a
-                                                  neighbour), red, larger, at the same time
+                                                  neighbour), red, larger, at the same times
 ``world/scan``                                    each depth frame the controller fused, from its
                                                   tick on: the points placed with the ESTIMATED
                                                   camera pose (the brain's view), m
@@ -108,24 +110,40 @@ def record_simulation(result: Any, traj: Any, robot: Any, out: str | Path) -> di
 
 
 def _elevation_map(rec: Recording, a: dict[str, np.ndarray]) -> None:
-    """The controller's map at the run's end, and its height under the soles over the run."""
-    from matplotlib import colormaps
-
-    from gaitshift.control.perception import EDGE_COLOR, seen_cells
+    """The controller's map over the run (its snapshots, then the map as the run ended), coloured by
+    height on one scale for the whole run, and its height under the soles over the run."""
+    from gaitshift.control.perception import seen_cells
 
     t = a["t"]
     for s, side in enumerate(("left", "right")):
         rec.series(f"timeseries/map/{side}", t, np.where(a["map_known"][:, s], a["map_height"][:, s], np.nan))
-    seen = a["map_seen"].astype(bool)
-    if not seen.any():
-        return
+    maps = []
+    if "map_t" in a:  # a log written before the snapshots has the final map only
+        maps = [(float(tk), a["map_cells"][a["map_cells_set"] == k], a["map_cells_edge"][a["map_cells_set"] == k])
+                for k, tk in enumerate(a["map_t"])]  # fmt: skip
     r = float(a["map_resolution"])
-    pos, shade, edge = seen_cells(a["map_heights"], seen, a["map_corner"], r)
+    final, _, edge = seen_cells(a["map_heights"], a["map_seen"].astype(bool), a["map_corner"], r)
+    maps.append((float(t[-1]), final, edge))
+    z = np.concatenate([cells[:, 2] for _, cells, _ in maps])
+    if not len(z):
+        return
+    lo, span = float(z.min()), max(float(np.ptp(z)), 1e-3)
+    for tk, cells, edge in maps:
+        _map_cells(rec, tk, np.asarray(cells, dtype=float), edge, (cells[:, 2] - lo) / span, r)
+
+
+def _map_cells(rec: Recording, tk: float, cells: np.ndarray, edge: np.ndarray, shade: np.ndarray, r: float) -> None:
+    """One map at plan time ``tk`` s: its seen cells ``cells`` (N, 3) m coloured by ``shade`` (N,) in
+    [0, 1], and its edge cells (``edge`` (N,) bool) in red, larger. An entity with no cell at ``tk`` is
+    cleared, so that scrubbing the timeline never shows an older map's cells as the current ones."""
+    from matplotlib import colormaps
+
+    from gaitshift.control.perception import EDGE_COLOR
+
     colors = (255 * colormaps["viridis"](shade)[:, :3]).astype(np.uint8)
-    rec.cloud("world/elevation_map", float(t[-1]), pos, colors, r / 2)
-    if edge.any():
-        red = np.full((int(edge.sum()), 3), EDGE_COLOR, dtype=np.uint8)
-        rec.cloud("world/elevation_map/edges", float(t[-1]), pos[edge], red, 0.7 * r)
+    rec.cloud("world/elevation_map", tk, cells, colors, r / 2)
+    red = np.full((int(edge.sum()), 3), EDGE_COLOR, dtype=np.uint8)
+    rec.cloud("world/elevation_map/edges", tk, cells[edge], red, 0.7 * r)
 
 
 def _footholds(rec: Recording, a: dict[str, np.ndarray], traj: Any, size: tuple[float, float]) -> None:

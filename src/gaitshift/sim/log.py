@@ -1,6 +1,6 @@
 """The log of a closed-loop run: preallocated arrays, one row per control tick; and the events between
-ticks: the depth scans the controller fused (:class:`ScanLog`) and each new set of planned footholds
-(:class:`FootholdLog`)."""
+ticks: the elevation map's snapshots (:class:`PerceptionLog`), the depth scans the controller fused
+(:class:`ScanLog`) and each new set of planned footholds (:class:`FootholdLog`)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from gaitshift.control.perception import thin_scan
+from gaitshift.control.perception import seen_cells, thin_scan
 from gaitshift.control.wbc_data import TickInfo, TickReference
 from gaitshift.sim.contacts import FootContacts
 
@@ -134,24 +134,40 @@ class EstimationLog:
         return {f"est_{k}": np.array(v[:n]) for k, v in self.rows.items()}
 
 
+#: the elevation map's snapshots per second of plan time (:class:`PerceptionLog`): the browser view's
+#: redraw rate too (``MAP_EVERY`` frames of its 30 per second), Hz
+MAP_RATE = 2.0
+
+
 class PerceptionLog:
     """Per tick: the controller's elevation map read at the TRUE soles' centres (a metric reads the
     controller's output against the truth; the controller never sees this): ``map_height`` (2,) m and
-    ``map_known`` (2,) bool (the cell has been seen); and the map as the run ended: ``map_heights``
-    (n, n) m (0 where unseen), ``map_seen`` (n, n) bool, ``map_corner`` (2,) m (the world xy of cell
-    [0, 0]'s lower corner) and ``map_resolution`` m. Empty when the robot has no depth camera."""
+    ``map_known`` (2,) bool (the cell has been seen). The map over time, a snapshot of its seen cells
+    every ``1 / MAP_RATE`` s of plan time from the first tick: ``map_t`` (K,) plan time s of each,
+    ``map_cells`` (C, 3) float32 m (each seen cell's centre at its height, world frame),
+    ``map_cells_edge`` (C,) bool (a step of more than ``EDGE_STEP`` to a neighbour) and ``map_cells_set``
+    (C,) int32, the snapshot each cell belongs to. And the map as the run ended: ``map_heights`` (n, n) m
+    (0 where unseen), ``map_seen`` (n, n) bool, ``map_corner`` (2,) m (the world xy of cell [0, 0]'s lower
+    corner) and ``map_resolution`` m. Empty when the robot has no depth camera."""
 
     def __init__(self) -> None:
         self.height: list[np.ndarray] = []
         self.known: list[np.ndarray] = []
+        self.snapshots: list[tuple[float, np.ndarray, np.ndarray]] = []
         self._last: Any = None
 
-    def record(self, elevation_map: Any, soles_xy: np.ndarray) -> None:
-        """One row: the map's height and whether it is known under each sole (``soles_xy`` (2, 2) m)."""
+    def record(self, tp: float, elevation_map: Any, soles_xy: np.ndarray) -> None:
+        """At plan time ``tp`` s, one row: the map's height and whether it is known under each sole
+        (``soles_xy`` (2, 2) m); and a snapshot of the map when ``1 / MAP_RATE`` s have passed since the
+        last."""
         h, p = elevation_map.lookup(soles_xy)
         self.height.append(h)
         self.known.append(np.isfinite(p))
         self._last = elevation_map
+        if not self.snapshots or tp >= self.snapshots[-1][0] + 1.0 / MAP_RATE - 1e-9:
+            m = elevation_map
+            cells, _, edge = seen_cells(m.height, m.known, m.corner * m.settings.resolution, m.settings.resolution)
+            self.snapshots.append((tp, cells.astype(np.float32), edge))
 
     def _final(self) -> dict[str, np.ndarray]:
         m = self._last
@@ -161,6 +177,10 @@ class PerceptionLog:
             "map_seen": m.known.copy(),
             "map_corner": m.corner * r,
             "map_resolution": np.array(r),
+            "map_t": np.array([t for t, _, _ in self.snapshots]),
+            "map_cells": np.concatenate([c for _, c, _ in self.snapshots]).reshape(-1, 3),
+            "map_cells_edge": np.concatenate([e for _, _, e in self.snapshots]).astype(bool),
+            "map_cells_set": group_index([c for _, c, _ in self.snapshots]),
         }
 
     def arrays(self, n: int) -> dict[str, np.ndarray]:

@@ -244,7 +244,7 @@ class _Run:
             self.est_log.record(rec.estimate)
         self.foothold_log.record(tp, self.ctrl.trajectory)
         if self.ctrl.perceiver is not None:
-            self.map_log.record(self.ctrl.perceiver.map, feet[:, :2])
+            self.map_log.record(tp, self.ctrl.perceiver.map, feet[:, :2])
             self.scan_log.record(tp, self.ctrl.perceiver)
 
     def _result(self, n_done: int, wall: float, fell: bool, fall_time: float, reason: str) -> SimResult:

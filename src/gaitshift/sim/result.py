@@ -26,7 +26,8 @@ class SimResult:
     ``feet_overlap``; see
     :mod:`gaitshift.sim.log`; and, not per tick, the scans the controller fused ``scan_t``,
     ``scan_points``, ``scan_frame`` and the footholds each time the plan changed them ``footholds_t``,
-    ``footholds``, ``footholds_side``, ``footholds_set``), ``fell``, ``fall_time`` (s; -1 when the robot
+    ``footholds``, ``footholds_side``, ``footholds_set``, and the elevation map's snapshots ``map_t``,
+    ``map_cells``, ``map_cells_edge``, ``map_cells_set``), ``fell``, ``fall_time`` (s; -1 when the robot
     did not fall) and ``meta`` (strict JSON, with the metrics). ``plan``: the run's plan as the loop tracked
     it (:meth:`gaitshift.control.controller.Controller.whole_plan`; not saved, None when loaded).
     """
