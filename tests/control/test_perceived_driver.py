@@ -5,6 +5,8 @@ it (the scenario it plans is flat), so a map of flat ground leaves the blind pla
 
 from __future__ import annotations
 
+import copy
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -12,14 +14,15 @@ import pytest
 import yaml
 
 import gaitshift
-from gaitshift.control.controller import Controller
 from gaitshift.control.drivers import prepare
-from gaitshift.control.perceived_driver import PerceivedDriver
+from gaitshift.control.perceived_driver import PerceivedDriver, PerceivedSettings
 from gaitshift.control.perception import ElevationMap, MapSettings
+from gaitshift.control.replanner import replanner
 from gaitshift.errors import InputError
 from gaitshift.models.terrain import Piece, Terrain
 from gaitshift.planners.tvlip.resolve import lift_phase
 from gaitshift.scenario.terrain import terrain_of
+from replan_checks import assert_same, wait_for
 
 BUILTIN = Path(gaitshift.__file__).parent / "scenario" / "builtin"
 
@@ -101,5 +104,117 @@ def test_a_wall_too_high_to_step_on_stops_the_walk_before_it_and_says_so():
 def test_perceived_is_refused_in_one_line_where_it_cannot_work():
     with pytest.raises(InputError, match="tvlip only"):
         prepare("g1-online-variable-speed", None, 0.002, "perceived")
-    with pytest.raises(InputError, match="inline"):
-        Controller.from_scenario(_scenario() | {"sim": {"terrain": "perceived"}}, replan="thread")
+    for lead in (-0.1, 2.0, float("nan")):
+        with pytest.raises(InputError, match="replan_lead"):
+            PerceivedSettings(replan_lead=lead)
+
+
+def _with_lead(lead: float) -> PerceivedDriver:
+    _, _, driver, _ = prepare(_scenario() | {"sim": {"terrain": "perceived", "replan_lead": lead}}, None, 0.002)
+    assert isinstance(driver, PerceivedDriver) and driver.settings.replan_lead == lead
+    return driver
+
+
+def test_a_lead_replans_before_the_boundary_and_changes_nothing_before_it_nor_what_is_planned():
+    """With ``replan_lead`` 0.1 s each re-plan comes at the first tick at or after ``t_k - 0.1`` and the new
+    plan equals the old one up to ``t_k`` (not only up to the re-plan's tick); on a map that does not change,
+    the plans are those of no lead."""
+    lead, truth = 0.1, terrain_of(prepare(_scenario(), None, 0.002)[0].terrain)
+    early, late = _with_lead(lead), _with_lead(0.0)
+    instants = early.map_instants()
+    np.testing.assert_allclose(instants + lead, late.map_instants())
+    for d in (early, late):
+        d.see(_map_of(truth))
+    changes, plain = _drive(early), _drive(late)
+    assert len(changes) == len(plain) >= 1
+    tb = early.seq.boundary_times
+    for (t, old, new), (t0, _, _) in zip(changes, plain, strict=True):
+        k = int(np.searchsorted(tb, t0 + 1e-9, side="right") - 1)  # the boundary re-planned at
+        assert tb[k] - lead - 1e-9 <= t < tb[k] - lead + 0.002 and t < t0
+        i = round(tb[k] / new.dt)
+        for name in ("com_pos", "com_vel", "foot_pos", "zmp"):
+            np.testing.assert_array_equal(getattr(new, name)[:i], getattr(old, name)[:i])
+    for name in ("com_pos", "foot_pos", "footsteps"):
+        np.testing.assert_array_equal(getattr(early.trajectory, name), getattr(late.trajectory, name))
+
+
+def _growing_map(truth: Terrain, t: float, emap: ElevationMap) -> None:
+    """The map as a walk would grow it: at plan time ``t`` s the ground up to x = 0.4 + 0.4 t m, fused again
+    (so the host's map changes every tick, after each copy handed to a worker too)."""
+    xy = emap.centres().reshape(-1, 2)
+    near = xy[xy[:, 0] <= 0.4 + 0.4 * t]
+    emap.fuse(np.column_stack([near, truth.height(near[:, 0])]), np.full(len(near), 1e-4))
+
+
+class Behind:
+    """A driver whose worker thread handles each tick only when the host lets it: the host is then
+    :data:`BEHIND` ticks further on, and its map has grown since (forwarding everything else)."""
+
+    def __init__(self, driver):
+        self.inner, self.go = driver, threading.Semaphore(0)
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+    def maybe_replan(self, t, com, com_vel):
+        self.go.acquire()
+        return self.inner.maybe_replan(t, com, com_vel)
+
+
+#: ticks a held thread worker lags the host by
+BEHIND = 50
+
+
+def _run_through(rp, truth: Terrain, ticks: np.ndarray, inline_at: list[int] | None) -> tuple[list, list[int]]:
+    """Every tick through the re-planner ``rp`` with the host's map growing each tick: its plans and the
+    ticks they came at. A background worker is waited for at the ticks the inline plans came at,
+    ``inline_at`` (its pipe holds ~1000 requests); a :class:`Behind` one is let go :data:`BEHIND` ticks
+    late, and waited for at the end."""
+    emap = ElevationMap(MapSettings(size=4.0, resolution=0.04))
+    emap.recenter(np.array([1.0, 0.0]))
+    rp.watch(emap)
+    held = getattr(rp.driver, "local", None)
+    held = held if isinstance(held, Behind) else None
+    got: list = []
+    at: list[int] = []
+    for n, t in enumerate(ticks):
+        _growing_map(truth, float(t), emap)
+        got += rp.step(float(t), np.zeros(3), np.zeros(3))
+        if held is not None and n >= BEHIND:
+            held.go.release()
+        elif held is None and inline_at is not None and n in inline_at:
+            got += wait_for(rp, inline_at.index(n) + 1 - len(got))
+        at += [n] * (len(got) - len(at))
+    if held is not None:
+        for _ in range(BEHIND):
+            held.go.release()
+        got += wait_for(rp, len(inline_at or ()) - len(got))
+    return got, at
+
+
+@pytest.mark.parametrize("mode", ["thread", "process"])
+def test_a_background_perceived_replan_reads_the_map_of_its_instant_and_is_the_inline_one(mode):
+    """The same ticks and the same growing map through the inline driver and a background worker (lead
+    0.1 s): the worker is handed a copy of the map at each of the driver's instants and re-plans on it, so
+    its plans are the inline ones bit for bit, however late they come, with the same refusals. The thread
+    worker is held 50 ticks behind the host: had it read the host's own map, it would have planned on 50
+    ticks more of it."""
+    truth = terrain_of(prepare(_scenario(), None, 0.002)[0].terrain)
+    start, ticks = _with_lead(0.1), np.arange(0.0, 10.0, 0.002)
+    inline = replanner(copy.deepcopy(start), "inline", 0.2)  # the same driver (its plan's meta has a wall time)
+    expected, at = _run_through(inline, truth, ticks, None)
+    driver = copy.deepcopy(start)
+    bg = replanner(Behind(driver) if mode == "thread" else driver, mode, 0.2)
+    try:
+        got, _ = _run_through(bg, truth, ticks, at)
+    finally:
+        bg.close()
+    results = {"inline": (expected, inline.driver), mode: (got, bg)}
+    (expected, inline), (got, bg) = results["inline"], results[mode]
+    assert len(got) == len(expected) == inline.replans >= 2 and bg.replans == inline.replans
+    for (traj, ps), (traj_e, ps_e) in zip(got, expected, strict=True):
+        assert_same(traj, traj_e)
+        assert_same(ps, ps_e)
+    assert bg.refused == inline.refused and bg.stopped == inline.stopped
+    assert bg.maps_handed == len(inline.map_instants())
+    assert np.abs(expected[-1][0].footsteps[:, 2]).max() > 0.25  # the footholds climbed onto the landing

@@ -97,7 +97,7 @@ class Controller:
         driver: PlanDriver | None = None,
     ) -> None:
         s = settings or ControllerSettings()
-        perceives = getattr(driver, "perceives", False)  # footholds from the map: the driver reads it in the tick
+        perceives = getattr(driver, "perceives", False)  # footholds from the map (inline, or copies handed over)
         if driver is not None:
             plan = driver.trajectory
             if not driver.step_feedback:
@@ -145,9 +145,7 @@ class Controller:
         if perceives:
             if self.perceiver is None:
                 raise InputError("terrain", "perceived", f"known or blind ({robot.robot.name} has no depth camera)")
-            if s.replan != "inline":
-                raise InputError("replan", s.replan, "inline with perceived terrain (the map is the tick's)")
-            self.replan.driver.see(self.perceiver.map)  # type: ignore[union-attr]
+            self.replan.watch(self.perceiver.map)  # type: ignore[union-attr]
 
     @classmethod
     def from_scenario(

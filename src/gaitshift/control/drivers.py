@@ -86,9 +86,11 @@ def prepare(
     cfg = given if given is not None else load_robot(robot_name)
     planned, knowledge = _planned(sc, terrain)
     if knowledge == "perceived":  # the blind plan, its footholds moved onto the map as it grows
-        from gaitshift.control.perceived_driver import PerceivedDriver
+        from gaitshift.control.perceived_driver import PerceivedDriver, PerceivedSettings
 
-        perceived = PerceivedDriver(planned, plan(planned))
+        lead = getattr(getattr(sc, "sim", None), "replan_lead", None)
+        settings = PerceivedSettings(replan_lead=lead if lead is not None else 0.0)
+        perceived = PerceivedDriver(planned, plan(planned), settings)
         return sc, cfg, perceived, perceived.trajectory
     driver = driver_for(planned, robot_facts(planned), control_period)
     return sc, cfg, driver, driver.trajectory if driver is not None else plan(planned)

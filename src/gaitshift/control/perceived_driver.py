@@ -25,6 +25,15 @@ not for the measured state.
 
 A re-plan whose ZMP must leave the sole by more than ``max_violation`` m is not taken (the old plan
 goes on; :attr:`PerceivedDriver.refused` counts them).
+
+**The lead.** The re-plan for boundary ``k`` changes nothing before ``t_k``, so it can be made earlier:
+at the first tick at or after ``t_k - lead`` (``lead`` = ``replan_lead`` s, 0 by default), on the map as
+it is then. The
+plan tracked is the same until ``t_k`` either way. A background worker
+(:mod:`gaitshift.control.replanner`) is handed a copy of the map at those instants
+(:meth:`PerceivedDriver.map_instants`) and has ``lead`` s to finish before the plan is needed: with a
+lead longer than the re-plan takes, the tick never computes one and never waits for one, and the plans
+are the inline ones of the same lead.
 """
 
 from __future__ import annotations
@@ -37,6 +46,7 @@ import numpy as np
 from gaitshift.control.perception.elevation_map import ElevationMap
 from gaitshift.control.perception.footholds import FootholdRules, place
 from gaitshift.control.perception.terrain_belief import Belief, BeliefSettings, terrain_belief
+from gaitshift.errors import number_in
 from gaitshift.gait.footsteps import Footstep
 from gaitshift.gait.swing import EdgeClearance
 from gaitshift.models.terrain import Terrain
@@ -58,11 +68,17 @@ SAME_TOL = 0.002
 @dataclass(frozen=True)
 class PerceivedSettings:
     """``edge_margin``: share of the sole length a foothold keeps from a step edge; ``max_violation``:
-    m, the largest eq.-(7) violation of a re-plan taken; ``belief``: how the map becomes terrain."""
+    m, the largest eq.-(7) violation of a re-plan taken; ``belief``: how the map becomes terrain;
+    ``replan_lead``: s, how long before each phase boundary its re-plan is made (module docstring, "The
+    lead"; a scenario's ``sim: replan_lead``)."""
 
     edge_margin: float = 0.25
     max_violation: float = 0.005
     belief: BeliefSettings = field(default_factory=BeliefSettings)
+    replan_lead: float = 0.0
+
+    def __post_init__(self) -> None:
+        number_in("replan_lead", self.replan_lead, (0.0, 1.0), "s")
 
 
 class PerceivedDriver:
@@ -106,18 +122,25 @@ class PerceivedDriver:
         self.band = (float(ys.min()) - w, float(ys.max()) + w)
 
     def see(self, emap: ElevationMap) -> None:
-        """The controller's map, read at every boundary."""
+        """The map read at the next re-plan: the controller's own (inline), or a copy of it made at one of
+        :meth:`map_instants` (a background worker)."""
         self.map = emap
 
-    def maybe_replan(self, t: float, _com: np.ndarray, _com_vel: np.ndarray) -> Trajectory | None:
-        """At the first tick at or after a phase boundary: the footholds on the believed terrain and the
-        rest of the plan solved again (module docstring); None when nothing changed or no boundary. The
-        measured CoM is not used: the capture-point step feedback answers the state, this driver the
-        terrain."""
+    def map_instants(self) -> np.ndarray:
+        """(B,) plan times s at which the driver reads its map: ``lead`` s before each boundary it may
+        re-plan at (the phases, and so these times, never change)."""
         tb = self.seq.boundary_times
-        if self.next >= len(tb) - 2 or t + 1e-9 < tb[self.next]:
+        return np.asarray(tb[1 : max(1, len(tb) - 2)], dtype=float) - self.settings.replan_lead
+
+    def maybe_replan(self, t: float, _com: np.ndarray, _com_vel: np.ndarray) -> Trajectory | None:
+        """At the first tick at or after ``lead`` s before a phase boundary: the footholds on the believed
+        terrain and the rest of the plan solved again from the boundary (module docstring); None when
+        nothing changed or no boundary. The measured CoM is not used: the capture-point step feedback
+        answers the state, this driver the terrain."""
+        tb, lead = self.seq.boundary_times, self.settings.replan_lead
+        if self.next >= len(tb) - 2 or t + lead + 1e-9 < tb[self.next]:
             return None
-        k = int(np.searchsorted(tb, t + 1e-9, side="right") - 1)
+        k = int(np.searchsorted(tb, t + lead + 1e-9, side="right") - 1)
         self.next = k + 1
         belief = self._belief(k)
         if belief is None:
@@ -190,6 +213,7 @@ class PerceivedDriver:
             last = k + int(np.argmin(kept[k:, side])) if not kept[k:, side].all() else len(kept)
             data["foot_pos"][ends[k] : ends[last], side] = old.foot_pos[ends[k] : ends[last], side]
         meta = dict(old.meta) | {"terrain": belief.as_list(), "max_zmp_violation": bp.violation, "perceived": True}
+        meta["stopped"] = self.stopped  # a host whose driver is a background worker's reads it here
         self.seq, self.bp, self.belief = seq, bp, belief
         self.replans += 1
         self.trajectory = trajectory_of(seq, bp, data, meta, sc.dt)

@@ -27,10 +27,18 @@ ticks later). A background run depends on the worker's timing: it is not determi
 :data:`SWITCH_INTERVAL` s for the whole process so that a tick waits less for it); ``process`` runs the
 driver in a spawned process (its own interpreter, niced by :data:`PLANNER_NICE`; the plan comes back in a
 file of a private folder, its arrays mapped rather than copied, :mod:`gaitshift.control.plan_files`, so
-the tick never waits for the worker to write it nor reads the whole plan): the one for real time. A
+the tick never waits for the worker to write it nor reads the whole plan): the one for real time. The
+worker's side is :mod:`gaitshift.control.planner_worker`. A
 program that builds a "process" controller must guard its main module (``if __name__ == "__main__":``), as
 any program that spawns processes; an error of the worker's driver is raised by the next tick as a
 :class:`~gaitshift.errors.GaitshiftError` with its message.
+
+**A driver that reads the map** (``perceives``: the perceived driver): inline, it reads the controller's
+own map in the tick. In the background, the tick at or after each of the driver's ``map_instants`` hands
+the worker a copy of the map as it is then (:meth:`ElevationMap.snapshot
+<gaitshift.control.perception.elevation_map.ElevationMap.snapshot>`; a file of the private folder for a
+process), before that tick's request, so the worker re-plans on the map the inline driver would have read.
+The driver's ``replan_lead`` gives it that long before the plan is needed.
 """
 
 from __future__ import annotations
@@ -41,14 +49,11 @@ import os
 import pickle
 import queue
 import shutil
-import signal
 import struct
 import sys
 import tempfile
 import threading
-import time
 import weakref
-from collections.abc import Iterator
 from multiprocessing.connection import Connection
 from pathlib import Path
 from typing import Any
@@ -58,6 +63,24 @@ import numpy as np
 from gaitshift.control.drivers import PlanDriver
 from gaitshift.control.plan_files import PlanFolder
 from gaitshift.control.plan_samples import PlanSamples
+from gaitshift.control.planner_worker import (
+    COMMAND,
+    FREE,
+    GOTO,
+    MAP,
+    PLANNER_NICE,
+    PLANNER_POLL,
+    QUIT,
+    RESULT_BYTES,
+    STOP,
+    TICK,
+    Update,
+    Worker,
+    map_folder,
+    record,
+    serve_process,
+    serve_thread,
+)
 from gaitshift.errors import GaitshiftError, InputError
 from gaitshift.trajectory.contract import Trajectory
 
@@ -76,19 +99,6 @@ __all__ = [
 REPLAN_MODES = ("inline", "thread", "process")
 #: s, the interpreter's switch interval in the "thread" mode (Python's default: 0.005 s)
 SWITCH_INTERVAL = 2e-4
-#: a new plan and its samples
-Update = tuple[Trajectory, PlanSamples]
-
-#: a request to the worker: a tag and its values (tick: t s, com (3,) m, com_vel (3,) m/s; command: vx m/s,
-#: vy m/s, yaw_rate rad/s; goto: x m, y m, yaw rad; stop, quit: none; free: the number of the oldest plan
-#: file the host may still map), padded with zeros to seven float64 on the process's pipe
-_TICK, _COMMAND, _GOTO, _STOP, _QUIT, _FREE = b"T", b"C", b"G", b"S", b"Q", b"F"
-#: bytes of a request record (tag, 7 float64) and of a result record (tag "P" or "E", 3 int64)
-_REQUEST, _RESULT = 57, 25
-#: the worker process's niceness: it takes the cores the ticks leave (a re-plan waits rather than a tick)
-PLANNER_NICE = 10
-#: s between two looks of the worker process for requests (it adds up to this much to a plan's lag)
-PLANNER_POLL = 0.002
 
 
 class InlineReplan:
@@ -106,104 +116,12 @@ class InlineReplan:
         new = self.driver.maybe_replan(t, com, com_vel)
         return [] if new is None else [(new, PlanSamples.from_trajectory(new, self.sole_length))]
 
+    def watch(self, emap: Any) -> None:
+        """A perceiving driver reads the controller's own map ``emap`` in the tick."""
+        self.driver.see(emap)  # type: ignore[attr-defined]
+
     def close(self) -> None:
         """Nothing to stop."""
-
-
-class _Worker:
-    """The worker's side: the driver, and what a request does to it."""
-
-    def __init__(self, driver: Any, sole_length: float) -> None:
-        self.driver, self.sole_length = driver, sole_length
-        self.ticks = 0  # tick requests handled
-
-    def handle(self, tag: bytes, v: tuple[float, ...]) -> tuple[Update, int, int] | None:
-        """Apply one request; a new plan and its samples, the driver's re-plan count and the number of the
-        tick request that made it (1: the first), or None."""
-        d = self.driver
-        if tag == _TICK:
-            self.ticks += 1
-            new = d.maybe_replan(v[0], np.array(v[1:4]), np.array(v[4:7]))
-            if new is None:
-                return None
-            return (new, PlanSamples.from_trajectory(new, self.sole_length)), int(d.replans), self.ticks
-        if tag == _COMMAND:
-            d.command(*v[:3])
-        elif tag == _GOTO:
-            d.gen.goto(*v[:3])
-        elif tag == _STOP:
-            d.stop()
-        return None
-
-
-def _record(tag: bytes, values: tuple[float, ...]) -> bytes:
-    """A request as a fixed-size record: the tag and seven float64 (padded with zeros)."""
-    return tag + struct.pack("<7d", *values, *(0.0,) * (7 - len(values)))
-
-
-def _requests(fd: int) -> Iterator[tuple[bytes, tuple[float, ...]]]:
-    """The requests on the pipe ``fd``, in order, until its end. The pipe is polled every
-    :data:`PLANNER_POLL` s rather than waited on: a writer to a pipe someone waits on wakes it, which costs
-    the tick that writes (0.09 ms per tick measured on this machine's virtual cores)."""
-    os.set_blocking(fd, False)
-    buf = b""
-    while True:
-        try:
-            chunk = os.read(fd, _REQUEST * 1024)
-        except BlockingIOError:
-            time.sleep(PLANNER_POLL)
-            continue
-        if not chunk:
-            return
-        buf += chunk
-        whole = len(buf) - len(buf) % _REQUEST
-        for k in range(0, whole, _REQUEST):
-            yield buf[k : k + 1], struct.unpack("<7d", buf[k + 1 : k + _REQUEST])
-        buf = buf[whole:]
-
-
-def _serve_process(requests: Connection, results: Connection, payload: str, sole_length: float) -> None:
-    """The worker process (niced by :data:`PLANNER_NICE`): the driver from the pickle file ``payload``;
-    requests as fixed records on ``requests``; each new plan (or error) as file ``n`` of the payload's folder
-    (:class:`~gaitshift.control.plan_files.PlanFolder`, freed when the host says so), then announced on
-    ``results`` as the record (tag, n, re-plans, tick): the tick never waits for the worker."""
-    files = PlanFolder(Path(payload).parent)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # a ^C is the host's to handle; the worker ends with its pipe
-    with contextlib.suppress(OSError, AttributeError):
-        os.nice(PLANNER_NICE)
-    worker = _Worker(pickle.loads(Path(payload).read_bytes()), sole_length)
-    n = 0
-    for tag, values in _requests(requests.fileno()):
-        if tag == _QUIT:
-            return
-        if tag == _FREE:  # removed here: freeing a mapped file's pages is the worker's time, not the tick's
-            files.free_before(int(values[0]))
-            continue
-        try:
-            out: Any = worker.handle(tag, values)
-        except Exception as e:  # handed to the controller, raised by its next tick (one picklable type)
-            out = (GaitshiftError(str(e) if isinstance(e, GaitshiftError) else f"planner: {e!r}"), 0, worker.ticks)
-        if out is None:
-            continue
-        n += 1
-        files.write(n, out[0])
-        kind = b"E" if isinstance(out[0], Exception) else b"P"
-        os.write(results.fileno(), kind + struct.pack("<3q", n, out[1], out[2]))
-
-
-def _serve_thread(worker: _Worker, requests: queue.SimpleQueue[Any], results: queue.SimpleQueue[Any]) -> None:
-    """The worker thread: requests in order until the quit request; plans (by reference) and errors out."""
-    while True:
-        tag, values = requests.get()
-        if tag == _QUIT:
-            return
-        try:
-            out = worker.handle(tag, values)
-        except Exception as e:  # handed to the controller, raised by its next tick
-            results.put(("error", e))
-            continue
-        if out is not None:
-            results.put(("plan", *out))
 
 
 class _ThreadLink:
@@ -213,13 +131,16 @@ class _ThreadLink:
         sys.setswitchinterval(min(sys.getswitchinterval(), SWITCH_INTERVAL))
         self.requests: queue.SimpleQueue[Any] = queue.SimpleQueue()
         self.results: queue.SimpleQueue[Any] = queue.SimpleQueue()
-        worker = _Worker(driver, sole_length)
-        self.thread = threading.Thread(target=_serve_thread, args=(worker, self.requests, self.results), daemon=True)
+        worker = Worker(driver, sole_length)
+        self.thread = threading.Thread(target=serve_thread, args=(worker, self.requests, self.results), daemon=True)
         self.thread.start()
-        self.close = weakref.finalize(self, self.requests.put, (_QUIT, ()))
+        self.close = weakref.finalize(self, self.requests.put, (QUIT, ()))
 
     def put(self, tag: bytes, values: tuple[float, ...]) -> None:
         self.requests.put((tag, values))
+
+    def put_map(self, emap: Any) -> None:
+        self.requests.put((MAP, (emap,)))
 
     def take(self) -> list[tuple[Any, ...]]:
         got = []
@@ -243,42 +164,53 @@ class _ProcessLink:
         req_r, req_w = ctx.Pipe(duplex=False)
         res_r, res_w = ctx.Pipe(duplex=False)
         args = (req_r, res_w, str(payload), sole_length)
-        self.proc = ctx.Process(target=_serve_process, args=args, daemon=True, name="gaitshift-planner")
+        self.proc = ctx.Process(target=serve_process, args=args, daemon=True, name="gaitshift-planner")
         self.proc.start()
         req_r.close()
         res_w.close()
         self.out, self.inbox, self.buf = req_w.fileno(), res_r.fileno(), b""
         self.files, self.read = PlanFolder(self.folder), 1  # read: the last take's newest plan (freed before it)
+        self.maps, self.maps_sent = map_folder(self.folder), 0
         os.set_blocking(self.out, False)
         os.set_blocking(self.inbox, False)
         self.close = weakref.finalize(self, _stop_process, self.proc, req_w, res_r, str(self.folder))
 
     def put(self, tag: bytes, values: tuple[float, ...]) -> None:
         try:
-            os.write(self.out, _record(tag, values))
+            os.write(self.out, record(tag, values))
         except BlockingIOError as e:
             raise GaitshiftError("the planner worker fell over a thousand requests behind") from e
         except OSError as e:
             raise GaitshiftError(f"the planner worker ended ({e})") from e
 
+    def put_map(self, emap: Any) -> None:
+        self.maps_sent += 1
+        self.maps.write(self.maps_sent, emap)
+        self.put(MAP, (float(self.maps_sent),))
+
     def take(self) -> list[tuple[Any, ...]]:
         try:
-            chunk = os.read(self.inbox, _RESULT * 64)
+            chunk = os.read(self.inbox, RESULT_BYTES * 64)
         except BlockingIOError:
             return []
         if not chunk:
             raise GaitshiftError(f"the planner worker ended (exit code {self.proc.exitcode})")
         self.buf += chunk
-        whole = len(self.buf) - len(self.buf) % _RESULT
-        got = []
-        for k in range(0, whole, _RESULT):
-            n, replans, tick = struct.unpack("<3q", self.buf[k + 1 : k + _RESULT])
-            what = self.files.read(n)
-            got.append(("error", what) if self.buf[k : k + 1] == b"E" else ("plan", what, replans, tick))
+        whole = len(self.buf) - len(self.buf) % RESULT_BYTES
+        got: list[tuple[Any, ...]] = []
+        newest = 0
+        for k in range(0, whole, RESULT_BYTES):
+            tag = self.buf[k : k + 1]
+            n, replans, tick = struct.unpack("<3q", self.buf[k + 1 : k + RESULT_BYTES])
+            if tag == b"R":
+                got.append(("refused", n))
+                continue
+            what, newest = self.files.read(n), n
+            got.append(("error", what) if tag == b"E" else ("plan", what, replans, tick))
         self.buf = self.buf[whole:]
-        if got:  # the plans before the last take's newest are no longer mapped (the controller holds one)
-            self.put(_FREE, (float(self.read),))
-            self.read = n
+        if newest:  # the plans before the last take's newest are no longer mapped (the controller holds one)
+            self.put(FREE, (float(self.read),))
+            self.read = newest
         return got
 
 
@@ -292,7 +224,7 @@ class _LiveGen:
         """Walk to (x, y) m and turn to ``yaw`` rad (from the worker's next planning instant)."""
         if self.owner.mode == "process":
             self.owner.local.gen.goto(x, y, yaw)
-        self.owner.send(_GOTO, (float(x), float(y), float(yaw)))
+        self.owner.send(GOTO, (float(x), float(y), float(yaw)))
 
 
 class BackgroundReplan:
@@ -306,6 +238,10 @@ class BackgroundReplan:
 
     Attributes:
         lags: per plan taken, the ticks it came late (the tick that took it minus the tick it was due at).
+        refused, stopped: a perceiving driver's re-plans not taken and why its walk stops (its newest plan's
+            ``meta["stopped"]``), as the worker reported them; None for other drivers.
+        maps_handed: the driver's map instants passed, a copy of the map handed to the worker at the first
+            tick at or after each (module docstring, "A driver that reads the map").
     """
 
     def __init__(self, driver: PlanDriver, sole_length: float, mode: str) -> None:
@@ -319,6 +255,11 @@ class BackgroundReplan:
         self.ticks = 0  # tick requests sent
         self.lags: list[int] = []
         self.closed = False
+        self.perceives = bool(getattr(driver, "perceives", False))
+        self.refused = getattr(driver, "refused", None) if self.perceives else None
+        self.stopped: str | None = None
+        self.feed: tuple[Any, np.ndarray] | None = None  # the controller's map and when to hand it over
+        self.maps_handed = 0
         self.link = _ThreadLink(driver, sole_length) if mode == "thread" else _ProcessLink(driver, sole_length)
 
     @property
@@ -332,10 +273,22 @@ class BackgroundReplan:
             raise GaitshiftError("the planner worker is closed")
         self.link.put(tag, values)
 
+    def watch(self, emap: Any) -> None:
+        """Hand the worker a copy of the controller's map ``emap`` at each of the driver's ``map_instants``
+        (module docstring, "A driver that reads the map")."""
+        self.feed = (emap, np.asarray(self.local.map_instants(), dtype=float))
+
     def step(self, t: float, com: np.ndarray, com_vel: np.ndarray) -> list[Update]:
-        """Send the tick's ``(t s, com (3,) m, com_vel (3,) m/s)`` and take the plans the worker finished
-        (never waits); an error of the worker's driver is raised here."""
-        self.send(_TICK, (float(t), *map(float, com[:3]), *map(float, com_vel[:3])))
+        """Send the tick's ``(t s, com (3,) m, com_vel (3,) m/s)`` (after a copy of the map, when one is due)
+        and take the plans the worker finished (never waits); an error of the worker's driver is raised here."""
+        if self.feed is not None:
+            due = int(np.searchsorted(self.feed[1], t + 1e-9, side="right"))
+            if due > self.maps_handed:
+                if self.closed:
+                    raise GaitshiftError("the planner worker is closed")
+                self.link.put_map(self.feed[0].snapshot())
+                self.maps_handed = due
+        self.send(TICK, (float(t), *map(float, com[:3]), *map(float, com_vel[:3])))
         self.ticks += 1
         return self.take()
 
@@ -346,7 +299,12 @@ class BackgroundReplan:
         for msg in self.link.take():
             if msg[0] == "error":
                 raise msg[1]
+            if msg[0] == "refused":
+                self.refused = msg[1]
+                continue
             updates.append(msg[1])
+            if self.perceives:
+                self.stopped = msg[1][0].meta.get("stopped")
             self.replans = msg[2]
             self.lags.append(self.ticks - msg[3])
         if updates:
@@ -361,13 +319,13 @@ class BackgroundReplan:
         """A live velocity command (m/s, m/s, rad/s) from the worker's next planning instant."""
         if self.mode == "process":
             self.local.command(vx, vy, yaw_rate)
-        self.send(_COMMAND, (float(vx), float(vy), float(yaw_rate)))
+        self.send(COMMAND, (float(vx), float(vy), float(yaw_rate)))
 
     def stop(self) -> None:
         """A live stop request."""
         if self.mode == "process":
             self.local.stop()
-        self.send(_STOP, ())
+        self.send(STOP, ())
 
     def __getattr__(self, name: str) -> Any:
         if name == "gen" and "local" in self.__dict__ and hasattr(self.local, "gen"):
@@ -383,7 +341,7 @@ class BackgroundReplan:
 def _stop_process(proc: Any, conn: Connection, inbox: Connection, folder: str) -> None:
     """Ask the worker process to quit, wait for it (1 s), end it otherwise; remove its folder."""
     with contextlib.suppress(OSError):
-        os.write(conn.fileno(), _record(_QUIT, ()))
+        os.write(conn.fileno(), record(QUIT, ()))
     proc.join(1.0)
     if proc.is_alive():
         proc.terminate()

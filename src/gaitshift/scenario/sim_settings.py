@@ -15,6 +15,7 @@ Perturbations (issue 13; the controller is never told them)::
       pushes: [{t: 2.0, impulse: [0, 15, 0], duration: 0.1}]   # N s, world frame, from plan time t
       bumps: [{x: 1.5, height: 0.03, length: 0.2}]             # m, box on the floor from x
       terrain: blind             # the planner is not told the scenario's terrain (TERRAIN_KNOWLEDGE)
+      replan_lead: 0.1           # s, perceived: each re-plan made this long before its boundary
       known_floor: true          # the controller is told that a world without terrain is the flat floor
 
 The allowed values live here (the lowest layer) and the simulator checks its options against them.
@@ -82,6 +83,10 @@ class BumpSettings(StrictModel):
     length: Annotated[float, Strict(), Field(gt=0, le=10, allow_inf_nan=False)] = 0.2
 
 
+#: the ``sim:`` keys the planner's driver reads, not the simulator (:meth:`SimSettings.given`)
+PLANNER_KEYS = ("terrain", "replan_lead")
+
+
 class SimSettings(StrictModel):
     """Simulation settings of a scenario (module docstring); None = the simulator's default."""
 
@@ -110,10 +115,11 @@ class SimSettings(StrictModel):
     bumps: list[BumpSettings] | None = None
     contact: Literal["force", "torque"] | None = None
     terrain: Literal["known", "blind", "perceived"] | None = None
+    replan_lead: Annotated[float, Strict(), Field(ge=0, le=1, allow_inf_nan=False)] | None = None
     known_floor: Annotated[bool, Strict()] | None = None
 
     def given(self) -> dict[str, Any]:
         """The keys set in the scenario, as ``SimOptions`` keyword arguments (``pushes`` and ``bumps``
-        as lists of plain dicts: the simulator turns them into its own objects); ``terrain`` is not
-        one: the planner reads it (:func:`gaitshift.control.drivers.prepare`)."""
-        return {k: v for k, v in self.model_dump().items() if v is not None and k != "terrain"}
+        as lists of plain dicts: the simulator turns them into its own objects); ``terrain`` and
+        ``replan_lead`` are not: the planner's driver reads them (:func:`gaitshift.control.drivers.prepare`)."""
+        return {k: v for k, v in self.model_dump().items() if v is not None and k not in PLANNER_KEYS}

@@ -69,6 +69,7 @@ CONTROLLER_KEYS = (
     "estimator",
     "assumed_friction",
     "contact",
+    "replan",
 )
 
 
@@ -106,6 +107,9 @@ class SimOptions:
             None (the default): what the robot YAML's ``sensors.foot_force`` says the real robot has
             (:func:`gaitshift.control.settings.contact_source`): torques for every shipped robot, whose
             real soles carry no force sensors (docs/robots.md, "On the estimate": what holds on torques).
+        replan: where a plan driver re-plans (:mod:`gaitshift.control.replanner`): ``"inline"`` (the
+            default: in the tick, deterministic) or ``"thread"`` / ``"process"`` (a background worker, as
+            on a robot: the run then depends on the worker's timing).
         known_floor: True: the controller is told that a world without terrain and bumps is the flat
             floor at z = 0 (:attr:`gaitshift.control.settings.ControllerSettings.floor`, docs/estimation.md
             "A known floor"); False (the default): it is not.
@@ -141,6 +145,7 @@ class SimOptions:
     joint_vel_noise: float = 0.0
     bumps: tuple[Bump, ...] = ()
     contact: str | None = None
+    replan: str = "inline"
     known_floor: bool = False
 
     def __post_init__(self) -> None:

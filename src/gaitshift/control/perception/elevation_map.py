@@ -59,6 +59,12 @@ class ElevationMap:
         self.variance = np.full((self.n, self.n), np.inf)
         self.corner = np.zeros(2, dtype=np.int64)
 
+    def snapshot(self) -> ElevationMap:
+        """A copy of the map as it is now, that later frames do not change (a background re-plan's map)."""
+        out = ElevationMap(self.settings)
+        out.height, out.variance, out.corner = self.height.copy(), self.variance.copy(), self.corner.copy()
+        return out
+
     @property
     def known(self) -> np.ndarray:
         """(n, n) bool: cells that have been seen."""
