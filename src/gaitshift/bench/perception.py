@@ -17,11 +17,18 @@ D435i: 32 x 24 rays, 30 Hz) looking at them.
   of the plan re-solved and sampled (:mod:`gaitshift.control.perceived_driver`); the baseline plans the
   whole scenario from scratch on the true terrain (``gaitshift.plan``).
 
+* ``G1 map hand-over (ElevationMap.snapshot + file)``: what the tick pays at a re-plan's instant when a
+  worker process re-plans (:mod:`gaitshift.control.replanner`, "A driver that reads the map"): the map
+  copied and written to a file of the worker's folder (in /dev/shm); the baseline is that instant's
+  re-plan made in the tick (``replan: inline``), as above.
+
 The note gives the map update's share of a 2 ms tick, averaged over the ticks between frames.
 """
 
 from __future__ import annotations
 
+import tempfile
+from pathlib import Path
 from typing import Any
 
 import mujoco
@@ -103,17 +110,20 @@ def bench_perception(quick: bool) -> list[Result]:
     )
     share = (frame.median_s + update.median_s) / sim.every / 0.002 * 100
     note = f"camera + map every {sim.every} ticks: {share:.2f} % of a 2 ms tick on average"
-    return [frame, Result(**{**update.__dict__, "note": note}), _replan(max(3, reps // 25))]
+    replan, handover = _replan(max(3, reps // 25), reps)
+    return [frame, Result(**{**update.__dict__, "note": note}), replan, handover]
 
 
-def _replan(reps: int) -> Result:
-    """The perceived driver's re-plan at boundary 3, and the whole plan from scratch (module docstring)."""
+def _replan(reps: int, handover_reps: int) -> tuple[Result, Result]:
+    """The perceived driver's re-plan at boundary 3, and the whole plan from scratch; the map's hand-over to
+    a worker process, and the same re-plan in the tick (module docstring)."""
     import yaml
 
     import gaitshift
     from gaitshift.control.drivers import prepare
     from gaitshift.control.perceived_driver import PerceivedDriver
     from gaitshift.control.perception import ElevationMap
+    from gaitshift.control.planner_worker import map_folder
     from gaitshift.scenario.loader import builtin_text
     from gaitshift.scenario.terrain import terrain_of
 
@@ -135,10 +145,20 @@ def _replan(reps: int) -> Result:
         driver.next = 3
         assert driver.maybe_replan(t3, np.zeros(3), np.zeros(3)) is not None
 
-    return timed(
+    replan = timed(
         "G1 perceived re-plan (PerceivedDriver at a boundary)",
         f"{len(driver.seq.footsteps)} footholds, {len(start[2])} samples",
         once,
         reps,
         baseline=("the whole plan from scratch (gaitshift.plan)", lambda: gaitshift.plan(world), reps),
     )
+    with tempfile.TemporaryDirectory(dir="/dev/shm" if Path("/dev/shm").is_dir() else None) as tmp:
+        folder, n = map_folder(Path(tmp)), iter(range(1, 10**9))
+        handover = timed(
+            "G1 map hand-over (ElevationMap.snapshot + file)",
+            f"{emap.n} x {emap.n} cells to a worker process",
+            lambda: folder.write(next(n), emap.snapshot()),
+            handover_reps,
+            baseline=("the re-plan in the tick (replan: inline)", once, reps),
+        )
+    return replan, handover
