@@ -28,8 +28,7 @@ goes on; :attr:`PerceivedDriver.refused` counts them).
 
 **The lead.** The re-plan for boundary ``k`` changes nothing before ``t_k``, so it can be made earlier:
 at the first tick at or after ``t_k - lead`` (``lead`` = ``replan_lead`` s, 0 by default), on the map as
-it is then. The
-plan tracked is the same until ``t_k`` either way. A background worker
+it is then. The plan tracked is the same until ``t_k`` either way. A background worker
 (:mod:`gaitshift.control.replanner`) is handed a copy of the map at those instants
 (:meth:`PerceivedDriver.map_instants`) and has ``lead`` s to finish before the plan is needed: with a
 lead longer than the re-plan takes, the tick never computes one and never waits for one, and the plans
