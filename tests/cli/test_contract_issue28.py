@@ -170,3 +170,19 @@ def test_campaign_report_refuses_a_report_that_is_a_file(campaign, cli):
     (campaign / "report").write_text("x")
     _one_line(cli(["campaign", "report", str(campaign)]), "DIR")
     assert (campaign / "report").read_text() == "x"
+
+
+@pytest.mark.parametrize("header", [b"{'descr': '<f8', 'fortran_order': False, 'shape': (3,", b"{'descr': <f8 ??"])
+def test_check_names_a_member_whose_npy_header_numpy_cannot_parse(header, cli, tmp_path):
+    """A .npy header cut inside a bracket makes numpy's header parser raise ``tokenize.TokenError``, a
+    garbled one ``SyntaxError`` (found by benchmarks/contract_sample.py, seed 0, case 5295): one line,
+    exit 2, naming the member."""
+    import struct
+    import zipfile
+
+    header = header + b" " * (64 - 10 - len(header) - 1) + b"\n"
+    path = tmp_path / "traj.npz"
+    with zipfile.ZipFile(path, "w") as z:
+        z.writestr("t.npy", b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + bytes(24))
+    code, out, err = cli(["check", str(path), "--json"])
+    assert code == 2 and out == "" and err.count("\n") == 1 and "t = " in err and "unreadable member" in err

@@ -23,6 +23,7 @@ import io
 import json
 import math
 import re
+import tokenize
 import zipfile
 import zlib
 from collections.abc import Callable
@@ -43,7 +44,17 @@ CSV_HEADER_ARRAYS = ("footsteps", "footstep_side")
 #: what reading a damaged .npz can raise: zipfile (BadZipFile, truncated members: EOFError, zlib.error;
 #: unsupported compression: NotImplementedError; encrypted members: RuntimeError) and numpy's .npy
 #: parser (ValueError: bad header, pickled objects, wrong size; OSError: short reads)
-NPZ_ERRORS = (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, NotImplementedError, RuntimeError)
+NPZ_ERRORS = (
+    OSError,
+    ValueError,
+    EOFError,
+    zipfile.BadZipFile,
+    zlib.error,
+    NotImplementedError,
+    RuntimeError,
+    SyntaxError,  # a .npy header numpy cannot parse
+    tokenize.TokenError,  # a .npy header cut inside a bracket
+)
 #: numpy dtype kinds that hold numbers: bool, signed and unsigned int, float
 NUMERIC_KINDS = "biuf"
 
