@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import copy
 import threading
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -99,6 +100,45 @@ def test_a_wall_too_high_to_step_on_stops_the_walk_before_it_and_says_so():
     assert fs[:, 0].max() + sc.foot.size[0] / 2 <= 1.0  # no sole reaches the wall
     assert np.all(fs[:, 2] == 0.0)
     np.testing.assert_allclose(fs[-1, 0], fs[-2, 0])  # it ends standing, feet side by side
+
+
+BLOCKS = Path(__file__).parents[2] / "docs" / "perception" / "g1-blocks-walk.yaml"
+
+
+def _map_xy(truth: Terrain) -> ElevationMap:
+    """A map that saw ``truth`` in the plane exactly (every cell at the ground under its centre)."""
+    m = ElevationMap(MapSettings(size=5.0, resolution=0.04))
+    m.recenter(np.array([2.0, 0.0]))
+    xy = m.centres().reshape(-1, 2)
+    m.fuse(np.column_stack([xy, truth.height_xy(xy[:, 0], xy[:, 1])]), np.full(len(xy), 1e-6))
+    return m
+
+
+@pytest.mark.parametrize("rule", ["plane", "profile"])
+def test_on_a_field_of_blocks_footholds_in_the_plane_keep_each_sole_on_one_block(rule):
+    """``footholds: plane`` judges each foothold on the map in 2-D: every sole on the field keeps the
+    margin from every block side that is a step (less a map cell), stands at its own block's height,
+    and its room holds it; ``profile`` alone (the band's median along x) does not."""
+    sc, _, driver, _ = prepare(str(BLOCKS))
+    driver.settings = replace(driver.settings, footholds=rule)
+    truth = terrain_of(sc.terrain)
+    driver.see(_map_xy(truth))
+    _drive(driver)
+    fs = driver.trajectory.footsteps
+    length, width = sc.foot.size
+    on = (fs[:, 0] > 1.0 + length) & (fs[:, 0] < 3.7 - length)  # on the field, clear of its ends
+    gap = truth.edge_distance(fs[on, 0], fs[on, 1], length / 2, width / 2)
+    height = np.abs(fs[on, 2] - truth.height_xy(fs[on, 0], fs[on, 1]))
+    if rule == "profile":
+        assert gap.min() < 0 or height.max() > 0.01  # across a side, or at another block's height
+        assert driver.trajectory.meta["foothold_rooms"] == []
+        return
+    assert gap.min() >= driver.patch.margin - 0.04  # the margin, less one map cell
+    assert height.max() <= driver.patch.flat_tol  # its own block's height (two within tau: their median)
+    rooms = np.array(driver.trajectory.meta["foothold_rooms"])
+    inside = (rooms[:, None, 0] - 1e-9 <= fs[:, 0]) & (fs[:, 0] <= rooms[:, None, 1] + 1e-9)
+    inside &= (rooms[:, None, 2] - 1e-9 <= fs[:, 1]) & (fs[:, 1] <= rooms[:, None, 3] + 1e-9)
+    assert inside[:, on].any(axis=0).all()  # each sole on the field has the room it stands in
 
 
 def test_perceived_is_refused_in_one_line_where_it_cannot_work():

@@ -117,3 +117,23 @@ def test_swing_lift_is_the_parabola_for_n1_and_its_derivatives_match_finite_diff
             assert np.isclose(swing_lift(x, peak, n)[2], (zp[1] - zm[1]) / (2 * h), rtol=1e-5)
     par = np.array([swing_lift(x, 0.04, 1.0)[0] for x in u])
     assert np.allclose(par, 4 * 0.04 * u * (1 - u), atol=1e-15)
+
+
+def test_a_correction_stays_in_the_room_of_its_foothold_on_a_flat_patch(run_plan):
+    """A foothold chosen on a flat patch of the map (``meta["foothold_rooms"]``): the corrected touchdown
+    is clipped into its room along x and y, and the clip written back to the step feedback."""
+    from dataclasses import replace
+
+    traj, plan = run_plan
+    sched, shift = _state(traj, plan, swing_flight=False)
+    land = traj.foot_pos[sched.landing_sample(1), 1]
+    room = np.array([land[0] - 0.01, land[0] + 0.02, land[1] - 0.005, land[1] + 0.003])
+    roomy = replace(plan, rooms=room[None, :])
+    shift.offset[1] = (0.08, -0.04, 0.0)
+    tick_reference(traj, roomy, 1200, 1.2, sched, shift, SwingSettings())
+    want = land[:2] + shift.shift[:2] + shift.offset[1, :2]  # where the touchdown now goes
+    np.testing.assert_allclose(want, [land[0] + 0.02, land[1] - 0.005], atol=1e-12)  # x high, y low: clipped
+    far = replace(plan, rooms=(room + 1.0)[None, :])  # a room elsewhere: not this foothold's
+    shift.offset[1] = (0.08, -0.04, 0.0)
+    tick_reference(traj, far, 1200, 1.2, sched, shift, SwingSettings())
+    np.testing.assert_array_equal(shift.offset[1], (0.08, -0.04, 0.0))

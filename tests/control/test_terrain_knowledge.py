@@ -59,3 +59,41 @@ def test_perceived_on_a_live_command_scenario_is_one_line_naming_the_flag():
     with pytest.raises(InputError) as info:
         prepare(load_scenario(LOCOMOTION_ON_A_STEP), terrain="perceived")
     assert info.value.field == "--terrain" and "tvlip only" in info.value.allowed
+
+
+BLOCKS = "docs/perception/g1-blocks-walk.yaml"
+
+
+def test_a_field_of_blocks_is_never_told_to_the_planner():
+    """Blocks are a 2-D ground; the planner's terrain is a profile z(x): ``known`` is one line naming the
+    field, and perceived plans blind while the world keeps the blocks."""
+    from pathlib import Path
+
+    path = Path(__file__).parents[2] / BLOCKS
+    with pytest.raises(InputError) as info:
+        prepare(str(path), terrain="known")
+    assert info.value.field == "--terrain" and "blocks" in info.value.allowed
+    sc, _, driver, traj = prepare(str(path))  # its sim: {terrain: perceived}
+    assert driver is not None and getattr(driver, "perceives", False)
+    assert np.all(traj.footsteps[:, 2] == 0.0)  # blind at the start
+    assert terrain_of(sc.terrain).blocks  # the world's ground holds them
+
+
+@pytest.mark.parametrize(
+    ("piece", "says"),
+    [
+        ({"x": [1.0, 2.0], "z": [0.0, 0.1], "blocks": {"size": 0.3, "height": 0.0, "seed": 0}}, "flat piece"),
+        ({"x": [1.0, 2.0], "z": [0.03, 0.03], "blocks": {"size": 0.3, "height": 0.04, "seed": 0}}, "below the floor"),
+        ({"x": [1.0, 2.0], "z": [0.04, 0.04], "blocks": {"size": 0.01, "height": 0.04, "seed": 0}}, "size"),
+        ({"x": [1.0, 2.0], "z": [0.04, 0.04], "blocks": {"size": 0.3, "height": 0.04, "seed": -1}}, "seed"),
+    ],
+    ids=["on-a-ramp", "below-the-floor", "too-small", "negative-seed"],
+)
+def test_a_bad_field_of_blocks_is_one_line_naming_it(piece, says):
+    from gaitshift.scenario import load_scenario as load
+
+    bad = {"planner": "tvlip", "robot": "g1", "gait": [{"gait": "walk", "steps": 4}], "terrain": [piece]}
+    with pytest.raises(InputError) as info:
+        load(bad)
+    assert "terrain" in info.value.field and says in str(info.value)
+    assert "\n" not in str(info.value)

@@ -1,7 +1,8 @@
-"""The G1 climbs three 10 cm stairs it is not told about, on its estimated state, from its camera's map
-(docs/perception/g1-stairs-up-ahead.yaml); told nothing and seeing nothing (blind) it falls there, so
-the crossing is the map's doing. The world's truth judges: the pelvis ends on the landing, and every
-touchdown's true sole lies on a tread, clear of the true edges."""
+"""The G1 climbs three 10 cm stairs (docs/perception/g1-stairs-up-ahead.yaml) and walks a field of
+random blocks (g1-blocks-walk.yaml) it is not told about, on its estimated state, from its
+camera's map; told nothing and seeing nothing (blind) it falls on both, so the crossing is the map's
+doing. The world's truth judges: the pelvis ends past the terrain, and every touchdown's true sole lies
+on the ground under it, clear of the true edges."""
 
 from __future__ import annotations
 
@@ -40,3 +41,25 @@ def test_the_g1_climbs_stairs_it_only_sees(perceived):
 def test_blind_on_the_same_stairs_falls():
     run = simulate_scenario(str(SCENARIO), seed=0, terrain="blind")
     assert run.result.fell
+
+
+BLOCKS = SCENARIO.parent / "g1-blocks-walk.yaml"
+
+
+def test_the_g1_walks_a_field_of_blocks_it_only_sees_each_sole_on_one_block():
+    """docs/perception/g1-blocks-walk.yaml (0.45 m blocks +-4 cm, footholds judged in the plane),
+    seed 0: no fall, past the field's end; every stance's true sole stands on the true ground under it
+    and keeps clear of every block side that is a step."""
+    run = simulate_scenario(str(BLOCKS), seed=0)
+    r = run.result
+    assert not r.fell, r.metrics.get("fall_reason")
+    assert float(r.arrays["qpos"][-1, 0]) > 3.7  # past the field
+    truth = terrain_of(run.scenario.terrain)
+    at = stances(r.arrays["contact"].astype(bool), float(r.meta["control_period"]))
+    feet = r.arrays["foot_pos"][at]
+    assert np.abs(feet[:, 2] - truth.height_xy(feet[:, 0], feet[:, 1])).max() < 0.02  # flat on its block
+    assert r.metrics["perception"]["edge_distance_min"] > 0.0  # no sole across a step
+
+
+def test_blind_on_the_same_blocks_falls():
+    assert simulate_scenario(str(BLOCKS), seed=0, terrain="blind").result.fell

@@ -55,10 +55,28 @@ def test_edge_distance_is_measured_from_the_true_sole_to_the_nearest_step_edge()
     )
     at = np.array([[True, False], [False, True], [True, False]])
     x = np.array([[1.13, 9.0], [0.0, 2.9], [0.5, 0.0]])
-    d = edge_distances(at, x, ground, 0.17)
+    xy = np.stack([x, np.zeros_like(x)], axis=-1)
+    d = edge_distances(at, xy, ground, (0.17, 0.05))
     # 1.13: 0.12 from the edge at 1.25; 2.9: 1.65 from 1.25 (the ramp's foot at 3.0 and its top at 4.0 are
     # no step edges); 0.5: 0.5 from 1.0; less half the sole
     expect = np.array([0.12, 1.65, 0.5]) - 0.085
     assert d["edge_distance_min"] == pytest.approx(expect.min())
     assert d["edge_distance_median"] == pytest.approx(np.median(expect))
-    assert edge_distances(at, x, Terrain(), 0.17) == {}
+    assert edge_distances(at, xy, Terrain(), (0.17, 0.05)) == {}
+
+
+def test_edge_distance_on_blocks_is_the_gap_to_the_nearest_side_of_a_block_in_the_plane():
+    from gaitshift.models.blocks import Blocks
+    from gaitshift.models.terrain import Piece, Terrain
+    from gaitshift.sim.perception_metrics import edge_distances
+
+    ground = Terrain(
+        (Piece(1.0, 2.2, 0.04, 0.04, Blocks(0.4, 0.04, 3, 0.6)),)
+    )  # x lines 1.0 1.4 1.8 2.2; y -0.6 -0.2 0.2 0.6
+    at = np.ones((1, 2), bool)
+    xy = np.array([[[1.6, 0.1], [1.25, -0.4]]])
+    d = edge_distances(at, xy, ground, (0.17, 0.05))
+    # left: 0.2 - 0.085 = 0.115 along x (1.4 and 1.8), 0.1 - 0.025 = 0.075 along y (0.2): 0.075;
+    # right: 0.15 - 0.085 = 0.065 along x (1.4), 0.2 - 0.025 along y: 0.065
+    assert d["edge_distance_min"] == pytest.approx(0.065)
+    assert d["edge_distance_median"] == pytest.approx(0.07)

@@ -36,6 +36,28 @@ def test_the_scene_holds_the_terrain_at_its_heights():
     assert len(plant.ground_geoms) == 4 and len(ContactSensor(plant).ground) == 4
 
 
+def test_the_scene_holds_a_field_of_blocks_at_the_heights_of_eq_1():
+    from gaitshift.models.blocks import Blocks
+    from gaitshift.models.terrain import Piece
+
+    blocks = Blocks(0.3, 0.04, 7, half_width=0.6)
+    terrain = Terrain((Piece(1.0, 2.15, 0.04, 0.04, blocks),))  # 4 x 4 blocks, the last column 0.25 m
+    plant = build_plant(0.002, "g1", terrain)
+    m, d = plant.model, mujoco.MjData(plant.model)
+    mujoco.mj_forward(m, d)
+    rng = np.random.default_rng(0)
+    xs, ys = rng.uniform(0.8, 2.4, 300), rng.uniform(-0.9, 0.9, 300)  # ahead of the robot, across the field
+    gid, down = np.zeros(1, np.int32), np.array([0.0, 0.0, -1.0])
+    hit = np.array(
+        [2.0 - mujoco.mj_ray(m, d, np.array([x, y, 2.0]), down, None, 1, -1, gid) for x, y in np.column_stack([xs, ys])]
+    )
+    off = blocks.offsets(1.0, 2.15)
+    assert off.shape == (4, 4) and np.all(np.abs(off) <= 0.04) and np.ptp(off) > 0.04
+    assert np.allclose(hit, terrain.height_xy(xs, ys), atol=1e-9)  # the blocks, and the piece's top beside them
+    assert np.array_equal(Blocks(0.3, 0.04, 7).offsets(1.0, 2.15), Blocks(0.3, 0.04, 7).offsets(1.0, 2.15))
+    assert not np.allclose(Blocks(0.3, 0.04, 8).offsets(1.0, 2.15), Blocks(0.3, 0.04, 7).offsets(1.0, 2.15))
+
+
 @pytest.mark.parametrize("name", ["g1-stairs-up", "g1-stairs-down", "g1-slope-up", "g1-slope-down"])
 def test_g1_walks_the_terrain_on_the_estimated_state_with_its_soles_on_the_ground(name):
     sc = load_scenario(name)

@@ -88,8 +88,9 @@ def prepare(
     if knowledge == "perceived":  # the blind plan, its footholds moved onto the map as it grows
         from gaitshift.control.perceived_driver import PerceivedDriver, PerceivedSettings
 
-        lead = getattr(getattr(sc, "sim", None), "replan_lead", None)
-        settings = PerceivedSettings(replan_lead=lead if lead is not None else 0.0)
+        sim = getattr(sc, "sim", None)
+        lead, rule = getattr(sim, "replan_lead", None), getattr(sim, "footholds", None)
+        settings = PerceivedSettings(replan_lead=lead if lead is not None else 0.0, footholds=rule or "profile")
         perceived = PerceivedDriver(planned, plan(planned), settings)
         return sc, cfg, perceived, perceived.trajectory
     driver = driver_for(planned, robot_facts(planned), control_period)
@@ -124,6 +125,8 @@ def _planned(sc: Any, terrain: str | None) -> tuple[Any, str]:
         raise InputError(field, knowledge, f"known or blind for a {sc.planner} scenario (perceived: tvlip only)")
     if not getattr(sc, "terrain", ()):
         return sc, "known"
+    if knowledge == "known" and any(p.blocks is not None for p in sc.terrain):
+        raise InputError(field, knowledge, "blind or perceived on a field of blocks (a 2-D ground: planners take z(x))")
     if knowledge in ("blind", "perceived"):
         return sc.model_copy(update={"terrain": _flat_where_it_stands(sc.terrain)}), knowledge
     if sc.planner == "locomotion":

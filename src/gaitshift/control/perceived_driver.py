@@ -10,6 +10,14 @@ onto it:
   :mod:`gaitshift.control.perception.footholds`: the sole on one piece, ``edge_margin`` of the sole
   length from a step edge, the stride and the rise within the scenario's ``limits``, on seen ground);
 * **how high**: the believed height under the sole centre, plus the scenario's own offset;
+* **in the plane** (``footholds: plane``; the default ``profile`` skips it): first the planned place
+  is judged on the map in 2-D (a field of blocks: the profile cannot tell one foot's block from the
+  other's; eq. (1) of :mod:`gaitshift.control.perception.patches`): it stays where no step is seen
+  under the sole, at its own cells' height, else it moves to the nearest level, seen patch within
+  reach, along x and y,
+  within the stride and rise limits, and the step feedback keeps its corrected touchdown in that
+  patch's room. Where the map cannot say (the place mostly unseen, nothing level within reach), the
+  profile's place above stands;
 * **the swing**: windowed over the believed edges (:class:`~gaitshift.gait.swing.EdgeClearance`), the
   scenario's ``edge_clearance`` above them;
 * **no safe place**: the walk stops before it. That foothold and every later one are set beside the
@@ -44,8 +52,9 @@ import numpy as np
 
 from gaitshift.control.perception.elevation_map import ElevationMap
 from gaitshift.control.perception.footholds import FootholdRules, place
+from gaitshift.control.perception.patches import PatchRules, level_patch
 from gaitshift.control.perception.terrain_belief import Belief, BeliefSettings, terrain_belief
-from gaitshift.errors import number_in
+from gaitshift.errors import InputError, number_in
 from gaitshift.gait.footsteps import Footstep
 from gaitshift.gait.swing import EdgeClearance
 from gaitshift.models.terrain import Terrain
@@ -56,12 +65,15 @@ from gaitshift.planners.tvlip.sampling import sample
 from gaitshift.scenario.terrain import terrain_of
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["SIGHT_PHASES", "PerceivedDriver", "PerceivedSettings"]
+__all__ = ["FOOTHOLD_RULES", "SIGHT_PHASES", "PerceivedDriver", "PerceivedSettings"]
 
 #: a foothold whose swing starts within this many phases of the re-plan must lie on seen ground
 SIGHT_PHASES = 1
 #: m, footholds and edges that moved less than this do not re-plan (the map's noise is a few mm)
 SAME_TOL = 0.002
+#: how a foothold is placed (module docstring): ``profile``, on the profile along the path alone;
+#: ``plane``, judged on the map in 2-D first ("in the plane"), the profile where the map cannot say
+FOOTHOLD_RULES = ("profile", "plane")
 
 
 @dataclass(frozen=True)
@@ -69,15 +81,19 @@ class PerceivedSettings:
     """``edge_margin``: share of the sole length a foothold keeps from a step edge; ``max_violation``:
     m, the largest eq.-(7) violation of a re-plan taken; ``belief``: how the map becomes terrain;
     ``replan_lead``: s, how long before each phase boundary its re-plan is made (module docstring, "The
-    lead"; a scenario's ``sim: replan_lead``)."""
+    lead"; a scenario's ``sim: replan_lead``); ``footholds``: one of :data:`FOOTHOLD_RULES` (a
+    scenario's ``sim: footholds``)."""
 
     edge_margin: float = 0.25
     max_violation: float = 0.005
     belief: BeliefSettings = field(default_factory=BeliefSettings)
     replan_lead: float = 0.0
+    footholds: str = "profile"
 
     def __post_init__(self) -> None:
         number_in("replan_lead", self.replan_lead, (0.0, 1.0), "s")
+        if self.footholds not in FOOTHOLD_RULES:
+            raise InputError("footholds", self.footholds, "one of: " + ", ".join(FOOTHOLD_RULES))
 
 
 class PerceivedDriver:
@@ -114,6 +130,9 @@ class PerceivedDriver:
         length, width = (float(v) for v in blind.foot.size)
         margin = self.settings.edge_margin * length
         self.rules = FootholdRules(length, width, margin, float(lim.max_stride), float(lim.max_step_height))
+        self.patch = PatchRules(length, width, margin)
+        self.rooms: dict[int, tuple[float, float, float, float]] = {}  # foothold index -> its patch's room
+        self.moved: set[int] = set()  # the footholds the map moved off the profile's place
         self.map: ElevationMap | None = None
         self.next = 1  # the next boundary to re-plan at
         ys = np.array([f.y for f in self.nominal])
@@ -170,8 +189,44 @@ class PerceivedDriver:
                     g = self.nominal[i]
                     feet[i] = Footstep(p.x, g.y, p.z, p.yaw, g.side)
                 return feet, why
-            feet[j] = Footstep(x, f.y, f.z - self.z0 + float(belief.terrain.height(x)), f.yaw, f.side)
+            offset = f.z - self.z0  # the scenario's own height of the foothold above the ground
+            profile = Footstep(x, f.y, offset + float(belief.terrain.height(x)), f.yaw, f.side)
+            planned = Footstep(f.x, f.y, offset + float(belief.terrain.height(f.x)), f.yaw, f.side)
+            slope = float(belief.terrain.slope(f.x))
+            in_plane = self._in_plane(j, planned, p, offset, slope) if self.settings.footholds == "plane" else None
+            feet[j] = in_plane or profile
         return feet, None
+
+    def _in_plane(self, j: int, f: Footstep, prev: Footstep, offset: float, slope: float) -> Footstep | None:
+        """Foothold ``j`` planned at ``f`` (at the profile's height there), judged on the map in 2-D (module
+        docstring, "in the plane"; ``offset`` m: the scenario's own height above the ground; ``slope``:
+        the profile's dz/dx there): kept where no step is seen under it, at its own cells' height, else
+        moved to the nearest level patch within reach, or to the place
+        the last re-plan moved it to while that is within reach and still level (choices that flip
+        between two patches from one map to the next are no plan). None (the profile decides) where the
+        map cannot say, or the patch breaks the stride or rise limits from ``prev``. Its room is kept
+        (:attr:`rooms`)."""
+        emap = self.map
+        found = None if emap is None else level_patch(emap, f.x, f.y, f.yaw, self.patch, slope)
+        if emap is not None and found is not None and found.moved and j in self.moved:  # a step under it
+            last = self.seq.footsteps[j]
+            near = abs(last.x - f.x) <= self.patch.reach[0] and abs(last.y - f.y) <= self.patch.reach[1]
+            kept = level_patch(emap, last.x, last.y, f.yaw, self.patch, slope) if near else None
+            found = kept if kept is not None and not kept.moved else found
+        if found is None:
+            self.rooms.pop(j, None)
+            self.moved.discard(j)
+            return None
+        z = offset + found.z
+        if abs(found.x - prev.x) > self.rules.max_stride or abs(z - prev.z) > self.rules.max_rise:
+            self.rooms.pop(j, None)
+            self.moved.discard(j)
+            return None
+        self.rooms[j] = found.room
+        self.moved.discard(j)
+        if (found.x, found.y) != (f.x, f.y):
+            self.moved.add(j)
+        return Footstep(found.x, found.y, z, f.yaw, f.side)
 
     def _belief(self, k: int) -> Belief | None:
         """The terrain believed at boundary ``k``: the map, with the soles stood on filling the unseen."""
@@ -213,6 +268,7 @@ class PerceivedDriver:
             data["foot_pos"][ends[k] : ends[last], side] = old.foot_pos[ends[k] : ends[last], side]
         meta = dict(old.meta) | {"terrain": belief.as_list(), "max_zmp_violation": bp.violation, "perceived": True}
         meta["stopped"] = self.stopped  # a host whose driver is a background worker's reads it here
+        meta["foothold_rooms"] = [list(self.rooms[j]) for j in sorted(self.rooms)]
         self.seq, self.bp, self.belief = seq, bp, belief
         self.replans += 1
         self.trajectory = trajectory_of(seq, bp, data, meta, sc.dt)
@@ -221,7 +277,7 @@ class PerceivedDriver:
 
 def _same(a: Footstep, b: Footstep, tol: float = SAME_TOL) -> bool:
     """Whether two footholds are the same within ``tol`` m."""
-    return abs(a.x - b.x) <= tol and abs(a.z - b.z) <= tol
+    return abs(a.x - b.x) <= tol and abs(a.y - b.y) <= tol and abs(a.z - b.z) <= tol
 
 
 def _same_edges(a: Terrain, b: Terrain, tol: float = SAME_TOL) -> bool:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -32,6 +32,10 @@ class PlanSamples:
             m: how far a corrected touchdown stays from the edges of its tread (control/reference.py).
         lift, land: per foot (left, right), the plan times (s) of its lift-offs and touchdowns
             (first sample after the contact flag changes), increasing.
+        rooms: (K, 4) m, rows (x_lo, x_hi, y_lo, y_hi): where the centre of a foothold judged on the map
+            in 2-D may move and its patch stay level (``meta["foothold_rooms"]``,
+            :class:`gaitshift.control.perception.patches.Patch`); a corrected touchdown stays in its
+            foothold's room (control/reference.py).
     """
 
     foot_vel: np.ndarray
@@ -45,6 +49,7 @@ class PlanSamples:
     foot_pitch: np.ndarray
     terrain: Terrain = FLAT
     tread_half: float = 0.0
+    rooms: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
 
     @classmethod
     def from_trajectory(cls, traj: Trajectory, sole_length: float = 0.0) -> PlanSamples:
@@ -71,6 +76,7 @@ class PlanSamples:
         return cls(
             terrain=terrain,
             tread_half=half,
+            rooms=np.asarray(traj.meta.get("foothold_rooms") or np.zeros((0, 4)), float).reshape(-1, 4),
             foot_pitch=pitch,
             foot_vel=fv,
             foot_acc=fa,

@@ -15,6 +15,8 @@
   plus ``edge_sigmas`` standard deviations of the controller's position along x (the terrain is known in
   the world frame, the controller acts in its estimated one: a heel 3 cm short of the edge lands on it),
   and the clipped correction is written back to the step feedback (the plan shift takes it at touchdown);
+  a foothold judged on the map in 2-D (:attr:`PlanSamples.rooms`) clips it to its patch's room instead,
+  along x and y (a step adjusted across a block's side tips the foot the same way);
   a swing that spans a flight phase (running) gets an extra lift :func:`swing_lift` that rises fast
   after lift-off and sets down slowly, its peak ``h = clip(lift_per_speed |v|, flight_clearance,
   max_lift)`` growing with the plan's mean CoM speed ``|v|`` over the swing: at speed the hip runs
@@ -61,6 +63,14 @@ def swing_lift(u: float, peak: float, n: float) -> tuple[float, float, float]:
     return c * (w - w ** (n + 1.0)), -c * (1.0 - (n + 1.0) * w**n), -c * (n + 1.0) * n * w ** (n - 1.0)
 
 
+def _room_of(rooms: np.ndarray, at: np.ndarray) -> np.ndarray | None:
+    """The room (4,) of ``rooms`` (K, 4) that holds the planned landing ``at`` (>= 2,) m, or None."""
+    inside = (rooms[:, 0] - 1e-6 <= at[0]) & (at[0] <= rooms[:, 1] + 1e-6)
+    inside &= (rooms[:, 2] - 1e-6 <= at[1]) & (at[1] <= rooms[:, 3] + 1e-6)
+    k = np.flatnonzero(inside)
+    return rooms[k[0]] if len(k) else None
+
+
 def tick_reference(
     traj: Trajectory,
     plan: PlanSamples,
@@ -81,7 +91,11 @@ def tick_reference(
             continue
         dur = sched.swing_duration(s)
         u = sched.swing_progress(t, s)
-        if not plan.terrain.flat:  # the corrected touchdown stays on the planned foothold's tread
+        room = _room_of(plan.rooms, traj.foot_pos[sched.landing_sample(s), s]) if len(plan.rooms) else None
+        if room is not None:  # the corrected touchdown stays on its level patch
+            want_xy = traj.foot_pos[sched.landing_sample(s), s, :2] + shift.shift[:2] + shift.offset[s, :2]
+            shift.offset[s, :2] += np.clip(want_xy, room[[0, 2]], room[[1, 3]]) - want_xy
+        elif not plan.terrain.flat:  # the corrected touchdown stays on the planned foothold's tread
             land_x = float(traj.foot_pos[sched.landing_sample(s), s, 0])
             want = land_x + shift.shift[0] + shift.offset[s, 0]
             # written back: at touchdown the plan shift takes the correction the foot was given

@@ -16,6 +16,7 @@ Perturbations (issue 13; the controller is never told them)::
       bumps: [{x: 1.5, height: 0.03, length: 0.2}]             # m, box on the floor from x
       terrain: blind             # the planner is not told the scenario's terrain (TERRAIN_KNOWLEDGE)
       replan_lead: 0.1           # s, perceived: each re-plan made this long before its boundary
+      footholds: plane           # perceived: footholds judged on the map in 2-D (FOOTHOLD_RULES)
       known_floor: true          # the controller is told that a world without terrain is the flat floor
 
 The allowed values live here (the lowest layer) and the simulator checks its options against them.
@@ -84,7 +85,7 @@ class BumpSettings(StrictModel):
 
 
 #: the ``sim:`` keys the planner's driver reads, not the simulator (:meth:`SimSettings.given`)
-PLANNER_KEYS = ("terrain", "replan_lead")
+PLANNER_KEYS = ("terrain", "replan_lead", "footholds")
 
 
 class SimSettings(StrictModel):
@@ -116,10 +117,12 @@ class SimSettings(StrictModel):
     contact: Literal["force", "torque"] | None = None
     terrain: Literal["known", "blind", "perceived"] | None = None
     replan_lead: Annotated[float, Strict(), Field(ge=0, le=1, allow_inf_nan=False)] | None = None
+    footholds: Literal["profile", "plane"] | None = None
     known_floor: Annotated[bool, Strict()] | None = None
 
     def given(self) -> dict[str, Any]:
         """The keys set in the scenario, as ``SimOptions`` keyword arguments (``pushes`` and ``bumps``
-        as lists of plain dicts: the simulator turns them into its own objects); ``terrain`` and
-        ``replan_lead`` are not: the planner's driver reads them (:func:`gaitshift.control.drivers.prepare`)."""
+        as lists of plain dicts: the simulator turns them into its own objects); ``terrain``,
+        ``replan_lead`` and ``footholds`` are not: the planner's driver reads them
+        (:func:`gaitshift.control.drivers.prepare`)."""
         return {k: v for k, v in self.model_dump().items() if v is not None and k not in PLANNER_KEYS}

@@ -260,7 +260,7 @@ class _Run:
         result.metrics = summarize(result, plan, self.world.plant.torque_limit)
         result.metrics.update(sensing_metrics(result.arrays, self.ctrl.source))
         frames = self.ctrl.perceiver.frames if self.ctrl.perceiver is not None else 0
-        sole = float(self.world.plant.robot.sole_size[0])
+        sole = (float(self.world.plant.robot.sole_size[0]), float(self.world.plant.robot.sole_size[1]))
         result.metrics.update(perception_metrics(result.arrays, frames, self.world.ground, sole, self.dt))
         stopped = getattr(self.ctrl.driver, "stopped", None)  # the perceived driver's stop before an edge
         if stopped is not None and "perception" in result.metrics:

@@ -15,9 +15,10 @@ the ground, so its height ``z`` is the ground's there; the map's height ``h`` at
 * ``frames``: depth frames fused;
 * ``edge_distance_min``, ``edge_distance_median``: m, at every stance (the middle tick of each contact
   of at least :data:`MIN_STANCE` s: a toe scuffing an edge in a swing is no stance), from the true
-  sole to the nearest step edge of the true terrain along x: the distance from the sole centre less
-  half the sole length (negative: the sole lies across the edge). Only with a terrain that has step
-  edges.
+  sole to the nearest step edge of the true terrain in the plane (a stair edge, a block's side:
+  :meth:`gaitshift.models.terrain.Terrain.edge_distance`, the sole a ``length`` x ``width`` rectangle
+  along the world axes): negative when the sole lies across the edge. Only with a terrain that has
+  step edges.
 """
 
 from __future__ import annotations
@@ -38,11 +39,11 @@ def perception_metrics(
     a: dict[str, np.ndarray],
     frames: int,
     ground: Terrain | None = None,
-    sole_length: float = 0.0,
+    sole: tuple[float, float] = (0.0, 0.0),
     dt: float | None = None,
 ) -> dict[str, Any]:
     """``{"perception": {...}}`` of a run's arrays (module docstring) on the true ``ground`` with soles
-    ``sole_length`` m long, ticks ``dt`` s apart (None: no edge distance); ``{}`` without a map."""
+    ``sole`` (length, width) m, ticks ``dt`` s apart (None: no edge distance); ``{}`` without a map."""
     if "map_height" not in a:
         return {}
     stance = a["contact"].astype(bool)
@@ -58,7 +59,7 @@ def perception_metrics(
             out[f"{name}_median"] = float(np.median(err))
             out[f"{name}_p95"] = float(np.percentile(err, 95))
     if dt is not None:  # the edge distance, at each stance of ``dt`` s ticks
-        out.update(edge_distances(stances(stance, dt), a["foot_pos"][:, :, 0], ground, sole_length))
+        out.update(edge_distances(stances(stance, dt), a["foot_pos"][:, :, :2], ground, sole))
     return {"perception": out}
 
 
@@ -74,13 +75,14 @@ def stances(contact: np.ndarray, dt: float) -> np.ndarray:
     return out
 
 
-def edge_distances(at: np.ndarray, x: np.ndarray, ground: Terrain | None, sole_length: float) -> dict[str, float]:
+def edge_distances(
+    at: np.ndarray, xy: np.ndarray, ground: Terrain | None, sole: tuple[float, float]
+) -> dict[str, float]:
     """``edge_distance_min`` and ``_median`` (module docstring) of the soles at the ticks ``at`` (N, 2)
-    bool with true sole centres ``x`` (N, 2) m; ``{}`` without step edges or such ticks."""
-    if ground is None:
+    bool with true sole centres ``xy`` (N, 2, 2) m and ``sole`` (length, width) m; ``{}`` without step
+    edges or such ticks."""
+    if ground is None or not at.any() or (not len(ground.steps()) and not ground.blocks):
         return {}
-    edges = ground.steps()
-    if not len(edges) or not at.any():
-        return {}
-    d = np.min(np.abs(x[at][:, None] - edges[None, :]), axis=1) - 0.5 * sole_length
+    p = xy[at]
+    d = ground.edge_distance(p[:, 0], p[:, 1], 0.5 * sole[0], 0.5 * sole[1])
     return {"edge_distance_min": float(d.min()), "edge_distance_median": float(np.median(d))}
