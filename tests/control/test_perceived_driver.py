@@ -23,6 +23,7 @@ from gaitshift.errors import InputError
 from gaitshift.models.terrain import Piece, Terrain
 from gaitshift.planners.tvlip.resolve import lift_phase
 from gaitshift.scenario.terrain import terrain_of
+from map_checks import seen_map
 from replan_checks import assert_same, wait_for
 
 BUILTIN = Path(gaitshift.__file__).parent / "scenario" / "builtin"
@@ -41,11 +42,7 @@ def _scenario() -> dict:
 
 
 def _map_of(truth: Terrain) -> ElevationMap:
-    m = ElevationMap(MapSettings(size=4.0, resolution=0.04))
-    m.recenter(np.array([1.0, 0.0]))
-    xy = m.centres().reshape(-1, 2)
-    m.fuse(np.column_stack([xy, truth.height(xy[:, 0])]), np.full(len(xy), 1e-6))
-    return m
+    return seen_map(truth, 1.0)
 
 
 def _drive(driver: PerceivedDriver) -> list[tuple[float, object, object]]:
@@ -106,12 +103,8 @@ BLOCKS = Path(__file__).parents[2] / "docs" / "perception" / "g1-blocks-walk.yam
 
 
 def _map_xy(truth: Terrain) -> ElevationMap:
-    """A map that saw ``truth`` in the plane exactly (every cell at the ground under its centre)."""
-    m = ElevationMap(MapSettings(size=5.0, resolution=0.04))
-    m.recenter(np.array([2.0, 0.0]))
-    xy = m.centres().reshape(-1, 2)
-    m.fuse(np.column_stack([xy, truth.height_xy(xy[:, 0], xy[:, 1])]), np.full(len(xy), 1e-6))
-    return m
+    """A map that saw ``truth`` in the plane exactly, 5 m wide (the whole field)."""
+    return seen_map(truth, 2.0, size=5.0)
 
 
 @pytest.mark.parametrize("rule", ["plane", "profile"])

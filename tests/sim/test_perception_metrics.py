@@ -80,3 +80,13 @@ def test_edge_distance_on_blocks_is_the_gap_to_the_nearest_side_of_a_block_in_th
     # right: 0.15 - 0.085 = 0.065 along x (1.4), 0.2 - 0.025 along y: 0.065
     assert d["edge_distance_min"] == pytest.approx(0.065)
     assert d["edge_distance_median"] == pytest.approx(0.07)
+
+
+def test_a_terrain_whose_steps_are_all_below_the_least_step_has_no_edge_distance():
+    """A 1 cm step is no step edge (EDGE_MIN_STEP, 2 cm): no edge distance, never an infinite one."""
+    from gaitshift.models.terrain import Piece, Terrain
+    from gaitshift.sim.perception_metrics import edge_distances
+
+    low = Terrain((Piece(1.0, 3.0, 0.01, 0.01),))
+    at = np.ones((1, 2), bool)
+    assert edge_distances(at, np.array([[[0.5, 0.1], [0.5, -0.1]]]), low, (0.17, 0.05)) == {}

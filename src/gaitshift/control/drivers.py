@@ -89,8 +89,8 @@ def prepare(
         from gaitshift.control.perceived_driver import PerceivedDriver, PerceivedSettings
 
         sim = getattr(sc, "sim", None)
-        lead, rule = getattr(sim, "replan_lead", None), getattr(sim, "footholds", None)
-        settings = PerceivedSettings(replan_lead=lead if lead is not None else 0.0, footholds=rule or "profile")
+        said = {k: getattr(sim, k, None) for k in ("replan_lead", "footholds")}  # the rest: the defaults
+        settings = PerceivedSettings(**{k: v for k, v in said.items() if v is not None})
         perceived = PerceivedDriver(planned, plan(planned), settings)
         return sc, cfg, perceived, perceived.trajectory
     driver = driver_for(planned, robot_facts(planned), control_period)

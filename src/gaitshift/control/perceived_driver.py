@@ -62,18 +62,16 @@ from gaitshift.planners.tvlip.kkt import BoundaryPlan
 from gaitshift.planners.tvlip.planner import sequence_for, trajectory_of
 from gaitshift.planners.tvlip.resolve import lift_phase, resolve_from
 from gaitshift.planners.tvlip.sampling import sample
+from gaitshift.scenario.sim_settings import FOOTHOLD_RULES
 from gaitshift.scenario.terrain import terrain_of
 from gaitshift.trajectory.contract import Trajectory
 
-__all__ = ["FOOTHOLD_RULES", "SIGHT_PHASES", "PerceivedDriver", "PerceivedSettings"]
+__all__ = ["SIGHT_PHASES", "PerceivedDriver", "PerceivedSettings"]
 
 #: a foothold whose swing starts within this many phases of the re-plan must lie on seen ground
 SIGHT_PHASES = 1
 #: m, footholds and edges that moved less than this do not re-plan (the map's noise is a few mm)
 SAME_TOL = 0.002
-#: how a foothold is placed (module docstring): ``profile``, on the profile along the path alone;
-#: ``plane``, judged on the map in 2-D first ("in the plane"), the profile where the map cannot say
-FOOTHOLD_RULES = ("profile", "plane")
 
 
 @dataclass(frozen=True)
@@ -81,8 +79,9 @@ class PerceivedSettings:
     """``edge_margin``: share of the sole length a foothold keeps from a step edge; ``max_violation``:
     m, the largest eq.-(7) violation of a re-plan taken; ``belief``: how the map becomes terrain;
     ``replan_lead``: s, how long before each phase boundary its re-plan is made (module docstring, "The
-    lead"; a scenario's ``sim: replan_lead``); ``footholds``: one of :data:`FOOTHOLD_RULES` (a
-    scenario's ``sim: footholds``)."""
+    lead"; a scenario's ``sim: replan_lead``); ``footholds``: one of
+    :data:`~gaitshift.scenario.sim_settings.FOOTHOLD_RULES` (a scenario's ``sim: footholds``;
+    ``plane``: module docstring, "in the plane")."""
 
     edge_margin: float = 0.25
     max_violation: float = 0.005
@@ -132,7 +131,7 @@ class PerceivedDriver:
         self.rules = FootholdRules(length, width, margin, float(lim.max_stride), float(lim.max_step_height))
         self.patch = PatchRules(length, width, margin)
         self.rooms: dict[int, tuple[float, float, float, float]] = {}  # foothold index -> its patch's room
-        self.moved: set[int] = set()  # the footholds the map moved off the profile's place
+        self.moved: set[int] = set()  # the footholds the map last moved off their planned place
         self.map: ElevationMap | None = None
         self.next = 1  # the next boundary to re-plan at
         ys = np.array([f.y for f in self.nominal])
@@ -190,11 +189,10 @@ class PerceivedDriver:
                     feet[i] = Footstep(p.x, g.y, p.z, p.yaw, g.side)
                 return feet, why
             offset = f.z - self.z0  # the scenario's own height of the foothold above the ground
-            profile = Footstep(x, f.y, offset + float(belief.terrain.height(x)), f.yaw, f.side)
-            planned = Footstep(f.x, f.y, offset + float(belief.terrain.height(f.x)), f.yaw, f.side)
-            slope = float(belief.terrain.slope(f.x))
-            in_plane = self._in_plane(j, planned, p, offset, slope) if self.settings.footholds == "plane" else None
-            feet[j] = in_plane or profile
+            feet[j] = Footstep(x, f.y, offset + float(belief.terrain.height(x)), f.yaw, f.side)
+            if self.settings.footholds == "plane":
+                planned = Footstep(f.x, f.y, offset + float(belief.terrain.height(f.x)), f.yaw, f.side)
+                feet[j] = self._in_plane(j, planned, p, offset, float(belief.terrain.slope(f.x))) or feet[j]
         return feet, None
 
     def _in_plane(self, j: int, f: Footstep, prev: Footstep, offset: float, slope: float) -> Footstep | None:
@@ -213,17 +211,14 @@ class PerceivedDriver:
             near = abs(last.x - f.x) <= self.patch.reach[0] and abs(last.y - f.y) <= self.patch.reach[1]
             kept = level_patch(emap, last.x, last.y, f.yaw, self.patch, slope) if near else None
             found = kept if kept is not None and not kept.moved else found
+        self.rooms.pop(j, None)
+        self.moved.discard(j)
         if found is None:
-            self.rooms.pop(j, None)
-            self.moved.discard(j)
             return None
         z = offset + found.z
         if abs(found.x - prev.x) > self.rules.max_stride or abs(z - prev.z) > self.rules.max_rise:
-            self.rooms.pop(j, None)
-            self.moved.discard(j)
             return None
         self.rooms[j] = found.room
-        self.moved.discard(j)
         if (found.x, found.y) != (f.x, f.y):
             self.moved.add(j)
         return Footstep(found.x, found.y, z, f.yaw, f.side)

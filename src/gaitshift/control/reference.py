@@ -71,6 +71,21 @@ def _room_of(rooms: np.ndarray, at: np.ndarray) -> np.ndarray | None:
     return rooms[k[0]] if len(k) else None
 
 
+def _keep_on_ground(traj: Trajectory, plan: PlanSamples, i: int, s: int, shift: PlanShift, pos_std: float) -> None:
+    """Clip foot ``s``'s corrected touchdown (module docstring), planned at sample ``i``: into its level
+    patch's room along x and y, else onto its tread along x; the clip is written back to ``shift``'s
+    offset (at touchdown the plan shift takes the correction the foot was given)."""
+    land = traj.foot_pos[i, s]
+    room = _room_of(plan.rooms, land) if len(plan.rooms) else None
+    if room is not None:
+        want_xy = land[:2] + shift.shift[:2] + shift.offset[s, :2]
+        shift.offset[s, :2] += np.clip(want_xy, room[[0, 2]], room[[1, 3]]) - want_xy
+    elif not plan.terrain.flat:
+        want = float(land[0]) + shift.shift[0] + shift.offset[s, 0]
+        clamped = plan.terrain.clamp_sole(float(land[0]), want, plan.tread_half, shift.settings.edge_sigmas * pos_std)
+        shift.offset[s, 0] += clamped - want
+
+
 def tick_reference(
     traj: Trajectory,
     plan: PlanSamples,
@@ -91,16 +106,8 @@ def tick_reference(
             continue
         dur = sched.swing_duration(s)
         u = sched.swing_progress(t, s)
-        room = _room_of(plan.rooms, traj.foot_pos[sched.landing_sample(s), s]) if len(plan.rooms) else None
-        if room is not None:  # the corrected touchdown stays on its level patch
-            want_xy = traj.foot_pos[sched.landing_sample(s), s, :2] + shift.shift[:2] + shift.offset[s, :2]
-            shift.offset[s, :2] += np.clip(want_xy, room[[0, 2]], room[[1, 3]]) - want_xy
-        elif not plan.terrain.flat:  # the corrected touchdown stays on the planned foothold's tread
-            land_x = float(traj.foot_pos[sched.landing_sample(s), s, 0])
-            want = land_x + shift.shift[0] + shift.offset[s, 0]
-            # written back: at touchdown the plan shift takes the correction the foot was given
-            clamped = plan.terrain.clamp_sole(land_x, want, plan.tread_half, shift.settings.edge_sigmas * pos_std)
-            shift.offset[s, 0] += clamped - want
+        if len(plan.rooms) or not plan.terrain.flat:
+            _keep_on_ground(traj, plan, sched.landing_sample(s), s, shift, pos_std)
         foot_ref[s] += shift.shift + shift.offset[s] * min_jerk(np.array(u))
         ds, dds = min_jerk_rates(np.array(u))  # the blend's own rates: the reference moves as it is told to
         foot_vel[s] += shift.offset[s] * (float(ds) / dur)

@@ -54,11 +54,16 @@ class Blocks:
         """(nx, ny) m: each block's top relative to the piece's (eq. (1)); read-only."""
         return _draw(self.seed, self.height, *self.shape(x0, x1))
 
+    def lines(self, x0: float, x1: float) -> tuple[FloatArray, FloatArray]:
+        """The grid's lines of eq. (1): x (nx + 1,) over ``[x0, x1]`` and y (ny + 1,) over ``[-w, w]``, m."""
+        nx, ny = self.shape(x0, x1)
+        xs = np.minimum(x0 + self.size * np.arange(nx + 1), x1)
+        return xs, np.minimum(-self.half_width + self.size * np.arange(ny + 1), self.half_width)
+
     def cells(self, x0: float, x1: float) -> FloatArray:
         """(nx * ny, 5) rows ``[xa, xb, ya, yb, dz]``: each block's extent (m) and offset (m), eq. (1)."""
         nx, ny = self.shape(x0, x1)
-        xs = np.minimum(x0 + self.size * np.arange(nx + 1), x1)
-        ys = np.minimum(-self.half_width + self.size * np.arange(ny + 1), self.half_width)
+        xs, ys = self.lines(x0, x1)
         i, j = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
         dz = self.offsets(x0, x1)
         return np.column_stack([xs[i].ravel(), xs[i + 1].ravel(), ys[j].ravel(), ys[j + 1].ravel(), dz.ravel()])
@@ -79,9 +84,7 @@ class Blocks:
         constant x, from ya to yb) and yl (ny + 1) * nx rows ``[y, xa, xb]`` (m). Whether a side is a step
         edge depends on the ground either side (:meth:`Terrain.edge_distance`)."""
         nx, ny = self.shape(x0, x1)
-        w = self.half_width
-        xs = np.minimum(x0 + self.size * np.arange(nx + 1), x1)
-        ys = np.minimum(-w + self.size * np.arange(ny + 1), w)
+        xs, ys = self.lines(x0, x1)
         i, j = np.meshgrid(np.arange(nx + 1), np.arange(ny), indexing="ij")
         xl = np.column_stack([xs[i].ravel(), ys[j].ravel(), ys[j + 1].ravel()])
         i, j = np.meshgrid(np.arange(nx), np.arange(ny + 1), indexing="ij")

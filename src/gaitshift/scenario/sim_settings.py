@@ -39,6 +39,9 @@ CONTACT_SOURCES = ("force", "torque")
 #: (the planner plans on it), ``blind`` (the planner plans on flat ground), ``perceived`` (the blind plan's
 #: footholds moved onto the controller's elevation map as it grows; TV-LIPM scenarios)
 TERRAIN_KNOWLEDGE = ("known", "blind", "perceived")
+#: how a perceived foothold is placed (:mod:`gaitshift.control.perceived_driver`): on the map's profile
+#: along the path alone, or judged on the map in 2-D first
+FOOTHOLD_RULES = ("profile", "plane")
 #: sensor noise profiles (``none``: exact readings)
 NOISE_PROFILES = ("none", "typical", "rl-peer")
 #: friction coefficients (floor, assumed), inclusive

@@ -81,8 +81,10 @@ def edge_distances(
     """``edge_distance_min`` and ``_median`` (module docstring) of the soles at the ticks ``at`` (N, 2)
     bool with true sole centres ``xy`` (N, 2, 2) m and ``sole`` (length, width) m; ``{}`` without step
     edges or such ticks."""
-    if ground is None or not at.any() or (not len(ground.steps()) and not ground.blocks):
+    if ground is None or not at.any():
         return {}
     p = xy[at]
     d = ground.edge_distance(p[:, 0], p[:, 1], 0.5 * sole[0], 0.5 * sole[1])
+    if not np.isfinite(d).all():  # no step edge counts (none, or all lower than the least step)
+        return {}
     return {"edge_distance_min": float(d.min()), "edge_distance_median": float(np.median(d))}

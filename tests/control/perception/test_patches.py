@@ -8,22 +8,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gaitshift.control.perception.elevation_map import ElevationMap, MapSettings
+from gaitshift.control.perception.elevation_map import ElevationMap
 from gaitshift.control.perception.patches import PatchRules, level_patch
 from gaitshift.models.blocks import Blocks
 from gaitshift.models.terrain import Piece, Terrain
+from map_checks import seen_map
 
 RULES = PatchRules(length=0.17, width=0.05, margin=0.03)
 
 
 def _mapped(terrain: Terrain, seen: float = 1e-6) -> ElevationMap:
-    """A map that saw ``terrain`` exactly (variance ``seen`` m^2), the robot at the origin: every cell
-    holds the ground's height at its centre."""
-    emap = ElevationMap(MapSettings(size=4.0, resolution=0.02))
-    emap.recenter(np.array([1.5, 0.0]))
-    xy = emap.centres().reshape(-1, 2)
-    emap.fuse(np.column_stack([xy, terrain.height_xy(xy[:, 0], xy[:, 1])]), np.full(len(xy), seen))
-    return emap
+    """A map of 2 cm cells that saw ``terrain`` exactly (variance ``seen`` m^2)."""
+    return seen_map(terrain, 1.5, resolution=0.02, variance=seen)
 
 
 BLOCKS = Terrain((Piece(1.0, 2.6, 0.04, 0.04, Blocks(0.4, 0.04, 1, half_width=0.8)),))  # sides at x 1.4 1.8 2.2

@@ -89,10 +89,11 @@ def level_patch(
     if here is None:
         return None
     z, dev, seen = here
+    step = bool(np.any(dev > rules.flat_tol))  # a step seen where it was planned
+    if not step and seen < rules.min_seen:
+        return None
     grid = _level_grid(emap, x, y, half, rules, slope)
-    if not np.any(dev > rules.flat_tol):  # no step seen where it was planned
-        if seen < rules.min_seen:
-            return None
+    if not step:
         room = (x, x, y, y) if grid is None else _room(grid[0], grid[1], grid[2], _centre(grid[0]))
         return Patch(x, y, z, False, (min(room[0], x), max(room[1], x), min(room[2], y), max(room[3], y)))
     if grid is None or not grid[0].any():
@@ -128,7 +129,9 @@ def _fit_here(
     seen = np.isfinite(std)
     if not seen.any():
         return None
-    level = emap.height[cells].ravel()[seen] - slope * (emap.centres()[cells].reshape(-1, 2)[seen, 0] - x)
+    r, i = emap.settings.resolution, np.arange(cells[0].start, cells[0].stop)
+    dx = np.repeat((emap.corner[0] + i + 0.5) * r - x, cells[1].stop - cells[1].start)  # each cell's x from x
+    level = emap.height[cells].ravel()[seen] - slope * dx[seen]
     a = float(np.median(level))
     return a, np.abs(level - a) - 2.0 * std[seen], float(seen.mean())
 
