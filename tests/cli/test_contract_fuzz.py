@@ -52,7 +52,9 @@ FUZZ = settings(
     ],
 )
 #: examples per property (sum >= 500; the 18 out-path cases are all there are)
-EXAMPLES = {"scenario": 400, "trajectory": 500, "script": 120, "stiffness": 120, "out": 18}
+#: examples per property in the suite (derandomized: the same every run); the wider sample of the contract,
+#: 10 000 cases, is benchmarks/contract_sample.py's (README)
+EXAMPLES = {"scenario": 250, "trajectory": 300, "script": 120, "stiffness": 120, "out": 18}
 
 BASES = {"tvlip": TVLIP, "vhip": VHIP}
 

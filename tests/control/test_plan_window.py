@@ -8,6 +8,7 @@ import gaitshift
 from gaitshift.control.drivers import prepare
 from gaitshift.control.locomotion_driver import LOOKAHEAD_STEPS, WINDOW_BACK
 from gaitshift.control.plan_history import PlanHistory
+from gaitshift.trajectory.contract import OPEN_END
 from gaitshift.trajectory.window import first_index, index_at, window
 
 DT = 0.002
@@ -50,3 +51,22 @@ def test_a_plan_adopted_after_the_last_one_ended_takes_over_where_it_stopped():
     for key in ("t", "com_pos", "contact", "foot_pos"):
         np.testing.assert_array_equal(getattr(whole, key), getattr(traj, key), err_msg=key)
     np.testing.assert_array_equal(whole.extras["boundary_t"], traj.extras["boundary_t"])
+
+
+def test_a_stop_asked_for_before_any_step_closes_the_live_plan():
+    """A live session told to stop while it still stands (``teleop --script quit``) ends: the driver's
+    plan, open-ended while the generator stands waiting for commands, closes half a second after the
+    generator came to rest, so the controller's run has an end. (Before, the plan stayed open and the
+    session stood forever.)"""
+    sc = {"planner": "locomotion", "robot": "g1", "commands": [{"t": 0.0, "vx": 0.0}], "stop_at": 60.0}
+    _, _, driver, _ = prepare(sc, None, DT)
+    for k in range(round(1.0 / DT)):
+        if k == 10:  # standing, its plan open-ended
+            assert driver.trajectory.meta[OPEN_END] and not driver.gen.finished
+            driver.stop()
+        t = k * DT
+        j = index_at(driver.trajectory, t)
+        driver.maybe_replan(t, driver.trajectory.com_pos[j], driver.trajectory.com_vel[j])
+    assert driver.gen.finished and not driver.trajectory.meta[OPEN_END]
+    assert float(driver.trajectory.t[-1]) <= 0.6  # it ends: rest, then half a second of standing
+    assert np.ptp(driver.trajectory.com_pos, axis=0).max() < 1e-9  # standing still, no step taken

@@ -35,8 +35,9 @@ def walk():
 
 @pytest.fixture(scope="module")
 def short_walk():
-    """A 3-step walk: every contact transition of a walk (stand, lift-off, swing, touch-down, stop)."""
-    return short_g1_walk(3)
+    """A 1-step walk and its closing step: every contact transition of a walk (stand, lift-off, swing,
+    touch-down, stop)."""
+    return short_g1_walk(1)
 
 
 @pytest.fixture(scope="module")

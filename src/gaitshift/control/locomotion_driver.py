@@ -119,10 +119,13 @@ class LocomotionDriver:
 
     def _extend(self, idx: int) -> Trajectory | None:
         """Refresh the look-ahead when the live generator has planned a new step (the plan the loop
-        tracks must contain it) or the plan is about to end (a live session standing still)."""
+        tracks must contain it), the plan is about to end (a live session standing still), or the
+        generator has come to rest while the plan is still open-ended (a stop asked for before any step:
+        that plan must close, or the run never ends)."""
         g = self.gen
         near_end = idx >= round(float(self.trajectory.t[-1]) / g.dt) - round(0.2 / g.dt) and not self._ended()
-        if g.step_count == self._steps_seen and not near_end:
+        closing = self._ended() and bool(self.trajectory.meta.get(OPEN_END, False))
+        if g.step_count == self._steps_seen and not near_end and not closing:
             return None
         self._steps_seen = g.step_count
         self.trajectory = self._look_ahead()

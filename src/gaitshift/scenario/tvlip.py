@@ -81,8 +81,9 @@ class TvlipScenario(StrictModel):
     gait: tuple[Segment, ...] = (Segment(gait="walk", steps=6),)
     first_swing: Literal["left", "right"] = "right"
     profile: StrideProfile = StrideProfile()
-    #: Explicit footholds [x, y, z, yaw] for each step, replacing ``profile``. The two initial feet are
-    #: at (0, +/- step_width/2, 0); the last foothold is followed by a closing step beside it.
+    #: Explicit footholds [x, y, z, yaw] for each step, replacing ``profile``; z is measured from the
+    #: ``terrain`` under the sole centre (0: on the ground, gait/footsteps.py ``on_terrain``). The two
+    #: initial feet are at (0, +/- step_width/2, 0); the last foothold is followed by a closing step beside it.
     footsteps: tuple[tuple[Real, Real, Real, Real], ...] | None = None
     limits: Limits = Limits()
     #: the ground under the footholds (scenario/terrain.py); empty: the flat floor
