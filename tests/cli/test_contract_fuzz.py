@@ -51,9 +51,8 @@ FUZZ = settings(
         HealthCheck.large_base_example,
     ],
 )
-#: examples per property (sum >= 500; the 18 out-path cases are all there are)
-#: examples per property in the suite (derandomized: the same every run); the wider sample of the contract,
-#: 10 000 cases, is benchmarks/contract_sample.py's (README)
+#: examples per property (sum >= 500; the 18 out-path cases are all there are), derandomized: the same every
+#: run; the contract's wider sample, 10 000 cases, is benchmarks/contract_sample.py's (README)
 EXAMPLES = {"scenario": 250, "trajectory": 300, "script": 120, "stiffness": 120, "out": 18}
 
 BASES = {"tvlip": TVLIP, "vhip": VHIP}

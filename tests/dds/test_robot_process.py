@@ -141,7 +141,8 @@ def test_the_gantry_holds_the_world_still_until_the_first_valid_command(tmp_path
     flags = ("--record", str(tmp_path / "robot.npz"), "--damping-after", "1.0")
     proc, summary_path, log = start_robot(domain, tmp_path, *flags)
     # ``moved``: the states published after the first valid command was sent (a stalled take brings
-    # held states queued behind it); MOVED of them leave any stall of the link short of MOVED / 2 ticks
+    # held states queued behind it); of MOVED such states at least half were driven by a command unless
+    # the link stalled for MOVED / 2 ticks
     held, moved, first = [], [], None
     deadline = time.monotonic() + 60.0
     try:
