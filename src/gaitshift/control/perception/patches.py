@@ -108,9 +108,8 @@ def level_patch(
 def _window(emap: ElevationMap, x: float, y: float, half: tuple[float, float]) -> tuple[slice, slice] | None:
     """The map's cells that the rectangle ``half`` (m, x and y) about ``(x, y)`` overlaps, or None when it
     leaves the map."""
-    r = emap.settings.resolution
-    lo = np.floor(np.array([x - half[0], y - half[1]]) / r).astype(np.int64) - emap.corner
-    hi = np.floor(np.array([x + half[0], y + half[1]]) / r).astype(np.int64) - emap.corner
+    lo = emap.cells(np.array([x - half[0], y - half[1]])) - emap.corner
+    hi = emap.cells(np.array([x + half[0], y + half[1]])) - emap.corner
     if np.any(lo < 0) or np.any(hi >= emap.n) or np.any(hi < lo):
         return None
     return slice(int(lo[0]), int(hi[0]) + 1), slice(int(lo[1]), int(hi[1]) + 1)
@@ -146,7 +145,7 @@ def _level_grid(
     the centres' x, y and heights ``a`` (A, B) m; None when the window leaves the map. An unseen cell
     fails eq. (1) (its standard deviation is inf)."""
     r = emap.settings.resolution
-    ci = np.floor(np.array([x, y]) / r).astype(np.int64) - emap.corner  # the planned centre's cell
+    ci = emap.cells(np.array([x, y])) - emap.corner  # the planned centre's cell
     reach = np.floor(np.array(rules.reach) / r).astype(np.int64)
     win = np.floor(np.array(half) / r + 0.5).astype(np.int64)  # cells either side that ``half`` overlaps
     lo, hi = ci - reach - win, ci + reach + win + 1
