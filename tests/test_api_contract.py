@@ -43,3 +43,43 @@ def test_replan_refuses_a_measured_state_that_is_not_two_finite_numbers(p, v, fi
     with pytest.raises(gaitshift.InputError) as info:
         r.replan(2.0, p, v)
     assert info.value.field == field
+
+
+def _settings(**given: object) -> object:
+    from gaitshift.control.settings import ControllerSettings
+
+    return ControllerSettings.of(**given)
+
+
+def _noise_profile(name: object) -> object:
+    from gaitshift.control.estimation.noise import noise_profile
+
+    return noise_profile(name)  # type: ignore[arg-type]
+
+
+def _planner_for(name: object) -> object:
+    from gaitshift.planners.registry import planner_for
+
+    return planner_for(name)  # type: ignore[arg-type]
+
+
+CHOICE_CALLS = {
+    "ControllerSettings.noise": ("noise", lambda v: _settings(noise=v)),
+    "ControllerSettings.state": ("state", lambda v: _settings(state=v)),
+    "ControllerSettings.replan": ("replan", lambda v: _settings(replan=v)),
+    "noise_profile": ("noise", _noise_profile),
+    "planner_for": ("planner", _planner_for),
+}
+
+
+@pytest.mark.parametrize("call", sorted(CHOICE_CALLS))
+@pytest.mark.parametrize("value", ["no-such-name", {"a": 1}, ["typical"], 3, None])
+def test_a_choice_outside_its_names_is_one_line_naming_the_field_and_the_names(call, value):
+    field, fn = CHOICE_CALLS[call]
+    if value is None and field == "state":
+        fn(value)  # None is allowed there: the robot's own default
+        return
+    with pytest.raises(gaitshift.GaitshiftError) as info:
+        fn(value)
+    text = str(info.value)
+    assert "\n" not in text and text.startswith(f"{field} = ") and "allowed one of: " in text

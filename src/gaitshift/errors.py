@@ -7,6 +7,8 @@ offending value and what is allowed.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 
 class GaitshiftError(Exception):
     """Base class of every gaitshift error."""
@@ -41,6 +43,20 @@ def check_flag(field: str, value: object) -> bool:
     """``value`` when it is a bool, else the :class:`InputError` "true or false" naming ``field``."""
     if not isinstance(value, bool):
         raise InputError(field, value, "true or false")
+    return value
+
+
+def one_of(choices: Iterable[str]) -> str:
+    """The allowed-text of a choice: ``"one of: a, b, c"``, in the given order."""
+    return "one of: " + ", ".join(choices)
+
+
+def check_choice(field: str, value: object, choices: Iterable[str]) -> str:
+    """``value`` when it is one of ``choices`` (a string), else the :class:`InputError` "one of: ..."
+    naming ``field``; an unhashable value (a list, a mapping) is refused the same way."""
+    names = tuple(choices)
+    if not isinstance(value, str) or value not in names:
+        raise InputError(field, value, one_of(names))
     return value
 
 

@@ -19,7 +19,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, check_choice
 from gaitshift.scenario.sim_settings import (
     COM_OFFSET_RANGE,
     CONTACT_SOURCES,
@@ -97,8 +97,8 @@ def check_value(name: str, field: str, value: Any) -> Any:
     axis = AXES[name]
     if axis.kind != "str":
         return _number(axis, field, value)
-    if axis.choices is not None and value not in axis.choices:
-        raise InputError(field, value, "one of: " + ", ".join(axis.choices))
+    if axis.choices is not None:
+        check_choice(field, value, axis.choices)
     if not isinstance(value, str) or not value:
         raise InputError(field, value, "a non-empty string")
     return value

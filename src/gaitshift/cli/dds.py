@@ -15,7 +15,7 @@ import typer
 
 from gaitshift.cli.app import app, out_file
 from gaitshift.cli.web import web_port_option
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, check_choice
 
 if TYPE_CHECKING:
     from gaitshift.dds.brain_options import BrainOptions, BrainSummary
@@ -85,8 +85,7 @@ def dds_robot_cmd(
         out_file(summary, "--summary", (".json",))
     record_file = record_path(record)
     network_interface(iface)
-    if noise not in NOISE_PROFILES:
-        raise InputError("--noise", noise, "one of: " + ", ".join(NOISE_PROFILES))
+    check_choice("--noise", noise, NOISE_PROFILES)
     faults = LinkFaults(drop, corrupt, delay_ms / 1e3, jitter_ms / 1e3, seed)
     opts = RobotOptions(
         robot=robot,

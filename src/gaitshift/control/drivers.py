@@ -113,14 +113,13 @@ def _flat_where_it_stands(pieces: Any) -> tuple[Any, ...]:
 def _planned(sc: Any, terrain: str | None) -> tuple[Any, str]:
     """The scenario the planner plans (:func:`prepare`): ``sc`` itself, or without its terrain (blind,
     perceived); and what the planner is told."""
-    from gaitshift.errors import InputError
+    from gaitshift.errors import InputError, check_choice
     from gaitshift.scenario.sim_settings import TERRAIN_KNOWLEDGE
 
     sim = getattr(sc, "sim", None)
     knowledge = terrain or (sim.terrain if sim is not None else None) or "known"
     field = "--terrain" if terrain is not None else "sim.terrain"
-    if knowledge not in TERRAIN_KNOWLEDGE:
-        raise InputError(field, knowledge, "one of: " + ", ".join(TERRAIN_KNOWLEDGE))
+    check_choice(field, knowledge, TERRAIN_KNOWLEDGE)
     if knowledge == "perceived" and sc.planner != "tvlip":
         raise InputError(field, knowledge, f"known or blind for a {sc.planner} scenario (perceived: tvlip only)")
     if not getattr(sc, "terrain", ()):

@@ -54,7 +54,7 @@ from gaitshift.control.perception.elevation_map import ElevationMap
 from gaitshift.control.perception.footholds import FootholdRules, place
 from gaitshift.control.perception.patches import PatchRules, level_patch
 from gaitshift.control.perception.terrain_belief import Belief, BeliefSettings, terrain_belief
-from gaitshift.errors import InputError, number_in
+from gaitshift.errors import check_choice, number_in
 from gaitshift.gait.footsteps import Footstep
 from gaitshift.gait.swing import EdgeClearance
 from gaitshift.models.terrain import Terrain
@@ -91,8 +91,7 @@ class PerceivedSettings:
 
     def __post_init__(self) -> None:
         number_in("replan_lead", self.replan_lead, (0.0, 1.0), "s")
-        if self.footholds not in FOOTHOLD_RULES:
-            raise InputError("footholds", self.footholds, "one of: " + ", ".join(FOOTHOLD_RULES))
+        check_choice("footholds", self.footholds, FOOTHOLD_RULES)
 
 
 class PerceivedDriver:

@@ -13,7 +13,7 @@ from gaitshift.control.reference import SwingSettings
 from gaitshift.control.replanner import REPLAN_MODES
 from gaitshift.control.schedule import ScheduleSettings
 from gaitshift.control.wbc_data import Gains
-from gaitshift.errors import InputError, number_in
+from gaitshift.errors import InputError, check_choice, number_in
 from gaitshift.scenario.sim_settings import (
     CONTACT_SOURCES,
     LATENCY_RANGE,
@@ -88,35 +88,30 @@ class ControllerSettings:
     stance_point: str = "cop"
 
     def __post_init__(self) -> None:
-        if self.state is not None and self.state not in STATE_SOURCES:
-            raise InputError("state", self.state, "one of: " + ", ".join(STATE_SOURCES))
-        if self.noise not in NOISE_PROFILES:
-            raise InputError("noise", self.noise, "one of: " + ", ".join(NOISE_PROFILES))
+        if self.state is not None:
+            check_choice("state", self.state, STATE_SOURCES)
+        check_choice("noise", self.noise, NOISE_PROFILES)
         number_in("noise_scale", self.noise_scale, NOISE_SCALE_RANGE)
         number_in("settle", self.settle, (0.0, 60.0), " s")
         check_friction("assumed_friction", self.assumed_friction)
-        if self.contact is not None and self.contact not in CONTACT_SOURCES:
-            raise InputError("contact", self.contact, "one of: " + ", ".join(CONTACT_SOURCES))
-        if self.estimator not in FILTERS:
-            raise InputError("estimator", self.estimator, "one of: " + ", ".join(FILTERS))
+        if self.contact is not None:
+            check_choice("contact", self.contact, CONTACT_SOURCES)
+        check_choice("estimator", self.estimator, FILTERS)
         lat = self.latency
         if isinstance(lat, bool) or not isinstance(lat, int) or not LATENCY_RANGE[0] <= lat <= LATENCY_RANGE[1]:
             raise InputError("latency", lat, f"an integer number of ticks in [{LATENCY_RANGE[0]}, {LATENCY_RANGE[1]}]")
         if self.floor is not None and not (isinstance(self.floor, (int, float)) and math.isfinite(self.floor)):
             raise InputError("floor", self.floor, "a finite height, m, or None")
-        if self.replan not in REPLAN_MODES:
-            raise InputError("replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
+        check_choice("replan", self.replan, REPLAN_MODES)
         number_in("position_tau", self.position_tau, POSITION_TAU_RANGE, "s")
-        if self.stance_point not in STANCE_POINTS:
-            raise InputError("stance_point", self.stance_point, "one of: " + ", ".join(STANCE_POINTS))
+        check_choice("stance_point", self.stance_point, STANCE_POINTS)
 
     @classmethod
     def of(cls, **given: Any) -> ControllerSettings:
         """Settings from keyword values; an unknown key is an :class:`InputError` naming it."""
         names = [f.name for f in fields(cls)]
         for key in given:
-            if key not in names:
-                raise InputError("settings", key, "one of: " + ", ".join(names))
+            check_choice("settings", key, names)
         return cls(**given)
 
 

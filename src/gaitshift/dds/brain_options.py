@@ -11,7 +11,7 @@ from gaitshift.dds.realtime import DEADLINE, DEADLINE_RANGE
 from gaitshift.dds.record import check_record
 from gaitshift.dds.safety import check_settings
 from gaitshift.dds.transport import check_domain
-from gaitshift.errors import InputError, check_flag, number_in
+from gaitshift.errors import InputError, check_choice, check_flag, number_in
 from gaitshift.scenario.sim_settings import LATENCY_RANGE
 
 __all__ = ["BrainOptions", "BrainSummary"]
@@ -84,8 +84,7 @@ class BrainOptions:
         check_settings(self.damping_time, self.standup_time, self.damping_kd, self.stale, self.tilt)
         number_in("--state-timeout", self.state_timeout, (0.01, 600.0), "s")
         number_in("--final-damping", self.final_damping, (0.0, 60.0), "s")
-        if self.replan not in REPLAN_MODES:
-            raise InputError("--replan", self.replan, "one of: " + ", ".join(REPLAN_MODES))
+        check_choice("--replan", self.replan, REPLAN_MODES)
         number_in("--hold", self.hold, (0.0, 60.0), "s")
         number_in("--deadline", self.deadline, DEADLINE_RANGE, "periods")
         if self.latency is not None:

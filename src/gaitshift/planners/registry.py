@@ -10,7 +10,7 @@ import importlib
 from collections.abc import Callable
 from typing import Any
 
-from gaitshift.errors import InputError
+from gaitshift.errors import check_choice
 from gaitshift.trajectory.contract import Trajectory
 
 #: planner name -> "module:function" (imported on first use, so that a planner's cost is paid only
@@ -28,8 +28,7 @@ def planner_for(name: str) -> Callable[[Any], Trajectory]:
     Raises:
         InputError: no planner of that name.
     """
-    if name not in PLANNERS:
-        raise InputError("planner", name, "one of: " + ", ".join(PLANNERS))
+    check_choice("planner", name, PLANNERS)
     module, func = PLANNERS[name].split(":")
     fn: Callable[[Any], Trajectory] = getattr(importlib.import_module(module), func)
     return fn

@@ -19,7 +19,7 @@ from typing import Any
 import yaml
 from pydantic import BaseModel, ValidationError
 
-from gaitshift.errors import InputError, ScenarioError
+from gaitshift.errors import InputError, ScenarioError, one_of
 from gaitshift.scenario.fields import input_error, one_line, short_repr
 from gaitshift.scenario.locomotion import LocomotionScenario
 from gaitshift.scenario.tvlip import TvlipScenario
@@ -64,7 +64,7 @@ def load_scenario(name_or_path: str | Path | dict[str, Any]) -> Any:
         data = yaml_mapping(_read(origin), "scenario", origin, "scenario field names")
     planner = data.setdefault("planner", DEFAULT_PLANNER)
     if not isinstance(planner, str) or planner not in SCHEMAS:
-        raise ScenarioError("planner", short_repr(planner), "one of: " + ", ".join(SCHEMAS))
+        raise ScenarioError("planner", short_repr(planner), one_of(SCHEMAS))
     if "name" not in data and origin is not None:
         data["name"] = Path(origin).stem
     if origin is not None and origin not in builtin_names():
@@ -88,7 +88,7 @@ def _read(key: str) -> str:
     """The YAML text of a built-in name or a file path."""
     if key in builtin_names():
         return builtin_text(key)
-    return yaml_text(Path(key), "scenario", "one of: " + ", ".join(builtin_names()), ScenarioError)
+    return yaml_text(Path(key), "scenario", one_of(builtin_names()), ScenarioError)
 
 
 def yaml_text(path: Path, field: str, choices: str, error: type[InputError] = ScenarioError) -> str:

@@ -53,7 +53,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, check_choice
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.scenario import load_scenario
 from gaitshift.wholebody.scaling_locomotion import locomotion_height, scale_locomotion_data
@@ -143,8 +143,7 @@ def scale_scenario(
     Raises:
         InputError: unknown ``time_scale``.
     """
-    if time_scale not in TIME_SCALES:
-        raise InputError("--time-scale", time_scale, "one of: " + ", ".join(TIME_SCALES))
+    check_choice("--time-scale", time_scale, TIME_SCALES)
     if not hasattr(scenario, "planner"):
         scenario = load_scenario(scenario)
     robot = load_robot(robot)

@@ -16,7 +16,7 @@ from gaitshift.control.estimation.inekf import InvariantEKF
 from gaitshift.control.estimation.odometry import LegOdometry
 from gaitshift.control.estimation.tuning import FilterTuning
 from gaitshift.control.estimation.types import BaseFilter
-from gaitshift.errors import InputError
+from gaitshift.errors import check_choice
 
 FILTERS: dict[str, Callable[[FilterTuning, float], BaseFilter]] = {
     "inekf": InvariantEKF,
@@ -32,6 +32,5 @@ def make_filter(name: str, tuning: FilterTuning, gravity: float = 9.81) -> BaseF
     Raises:
         InputError: unknown name.
     """
-    if name not in FILTERS:
-        raise InputError("estimator.filter", name, "one of: " + ", ".join(FILTERS))
+    check_choice("estimator.filter", name, FILTERS)
     return FILTERS[name](tuning, gravity)

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, check_choice
 
 GRAVITY = 9.81
 
@@ -172,6 +172,5 @@ def noise_profile(name: str | NoiseProfile) -> NoiseProfile:
     """
     if isinstance(name, NoiseProfile):
         return name
-    if name not in PROFILES:
-        raise InputError("noise", name, "one of: " + ", ".join(PROFILES))
+    check_choice("noise", name, PROFILES)
     return PROFILES[name]
