@@ -1,7 +1,7 @@
-"""The search of ``robot tune`` without running it: the candidate grid around the start, the pick
-(fewest falls, then the least change from the start), the tuned YAML (the gait keys written, the robot
-loads from another folder, the keys reach a scaled live-command scenario), and the CLI's one-line errors
-before any work."""
+"""The search of ``robot tune`` without running it: the candidate grid around the start, the pick (fewest falls,
+then the flight closest to the one planned, then the least change from the start), the tuned YAML (the
+gait keys written, the robot loads from another folder, the keys reach a scaled live-command scenario), and
+the CLI's one-line errors before any work."""
 
 from __future__ import annotations
 
@@ -10,7 +10,17 @@ from pathlib import Path
 
 from gaitshift.robots import load_robot
 from gaitshift.scenario import load_scenario
-from gaitshift.tuning.search import FLIGHT_FACTORS, STEP_TIME_SCALES, Candidate, candidates, pick, robot_yaml
+from gaitshift.tuning.report import report
+from gaitshift.tuning.search import (
+    FLIGHT_FACTORS,
+    FLIGHT_REACHED,
+    STEP_TIME_SCALES,
+    Candidate,
+    TuneResult,
+    candidates,
+    pick,
+    robot_yaml,
+)
 from gaitshift.tuning.start import StartingGait
 from gaitshift.wholebody.scaling import scale_scenario
 
@@ -36,6 +46,29 @@ def test_the_pick_is_the_fewest_falls_then_the_least_change():
     assert pick(rows, grid, START) == start_like  # both fall once: the start wins on change
     rows = [r for c in grid for r in _rows(c, 0 if c == quicker else 1)]
     assert pick(rows, grid, START) == quicker  # fewer falls beat a smaller change
+
+
+def _flown(c: Candidate, ratio: float) -> list[dict]:
+    """No fall; a walk (no flight planned: no ratio) and a run that achieved ``ratio`` of its flight."""
+    walk = {"scenario": f"{c.name}/walk.yaml", "fell": False, "error": None, "flight_ratio": None}
+    return [walk, {"scenario": f"{c.name}/run.yaml", "fell": False, "error": None, "flight_ratio": ratio}]
+
+
+def test_at_equal_falls_the_pick_is_a_candidate_that_reaches_its_planned_flight():
+    grid = candidates(START)
+    start_like = next(c for c in grid if c.flight_scale == 0.6 and c.step_time_scale == 1.0)
+    shorter = next(c for c in grid if c.flight_scale == 0.15 and c.step_time_scale == 1.0)
+    short, reached = FLIGHT_REACHED - 0.01, FLIGHT_REACHED
+    rows = [r for c in grid for r in _flown(c, reached if c == shorter else short)]
+    assert pick(rows, grid, START) == shorter  # the start's flight is not taken: the flight the robot reaches
+    rows = [r for c in grid for r in _flown(c, reached)]
+    assert pick(rows, grid, START) == start_like  # every flight reached: the least change again
+    text = report(TuneResult(START, grid, pick(rows, grid, START), rows), "r.yaml")
+    assert f"flight >= {reached:.2f} of planned" in text and "No candidate" not in text
+    rows = [r for c in grid for r in _flown(c, 0.5 if c == shorter else 0.3)]
+    assert pick(rows, grid, START) == shorter  # none reaches its flight: the closest one (the OP3's case)
+    text = report(TuneResult(START, grid, pick(rows, grid, START), rows), "r.yaml")
+    assert f"No candidate's running achieved {FLIGHT_REACHED:.0%}" in text
 
 
 def test_the_tuned_yaml_loads_elsewhere_and_its_keys_reach_a_scaled_scenario(tmp_path):

@@ -164,7 +164,7 @@ def robot_tune_cmd(
 ) -> None:
     """Find a new robot's gait keys: derive them from the model, then run a small campaign of candidates
     (the G1's walk, run, walk-run-walk and tour scaled to the robot, on the estimate) and keep the one
-    that falls least and changes least (docs/robots.md, "Tune")."""
+    that falls least, comes closest to the flight it plans, and changes least (docs/robots.md, "Tune")."""
     from gaitshift.common.atomic import atomic_path
     from gaitshift.tuning.report import report as report_text
     from gaitshift.tuning.search import check_seeds, robot_yaml, tune

@@ -5,13 +5,14 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from gaitshift.tuning.search import TuneResult
+from gaitshift.tuning.search import FLIGHT_REACHED, TuneResult, flight_short
 
 __all__ = ["report"]
 
 
 def _cell(rows: list[dict[str, Any]]) -> str:
-    """One candidate on one scenario over its seeds: falls, and the worst contact accuracy."""
+    """One candidate on one scenario over its seeds: falls, the worst contact accuracy and the least share of
+    its planned flight achieved (where it plans one)."""
     falls = [
         f"{r['seed']}@{r['t_fall']:.2f}s" if r.get("t_fall") is not None else str(r["seed"]) for r in rows if r["fell"]
     ]
@@ -20,7 +21,9 @@ def _cell(rows: list[dict[str, Any]]) -> str:
     text = "no fall" if not falls else "fell " + " ".join(falls)
     if errors:
         text += f", {len(errors)} error(s)"
-    return text + (f", contact >= {100 * min(acc):.1f} %" if acc else "")
+    flight = [r["flight_ratio"] for r in rows if r.get("flight_ratio") is not None]
+    text += f", contact >= {100 * min(acc):.1f} %" if acc else ""
+    return text + (f", flight >= {min(flight):.2f} of planned" if flight else "")
 
 
 def report(result: TuneResult, robot: str) -> str:
@@ -48,4 +51,10 @@ def report(result: TuneResult, robot: str) -> str:
         lines.append(f"| {c.name}{mark} | " + " | ".join(cells) + " |")
     wall = sum(r.get("wall_time") or 0.0 for r in result.rows)
     lines += ["", f"Picked: `gait: {result.best.keys()}`. {len(result.rows)} runs, {wall:.0f} s of simulation."]
+    flown = [r for r in result.rows if r.get("flight_ratio") is not None]
+    if flown and all(flight_short(r) > 0 for r in flown):
+        lines.append(
+            f"No candidate's running achieved {FLIGHT_REACHED:.0%} of its planned flight: the flight is bound by"
+            " the robot, not by the grid (the pick comes closest among the fewest falls)."
+        )
     return "\n".join(lines) + "\n"

@@ -11,9 +11,17 @@ Each candidate is the robot YAML with those keys, written to the work folder; th
 walk-run-walk and live-command tour are scaled to it (:func:`gaitshift.wholebody.scaling.scale_scenario`,
 which applies the keys) and simulated closed loop on the estimated state with ``typical`` noise over
 the seeds, as one campaign (Dask, :mod:`gaitshift.campaign`): an interrupted tune resumes. A candidate's
-score is, in order: its falls (fewer first), then how far it departs from the start (the sum of
-``|log(key / start key)|``: the least change that holds). The tuned YAML is the robot YAML with the
-winner's keys; the report lists every candidate's runs.
+score is, in order:
+
+1. its falls (fewer first);
+2. how far its runs' achieved flights fall short of :data:`FLIGHT_REACHED` of the planned ones (the sum of
+   ``max(0, FLIGHT_REACHED - flight_ratio)`` over the runs that plan a flight, smaller first): a flight the
+   robot does not take is not the flight it can reach (a stance planned after a flight that does not
+   happen lands early), and where no candidate reaches it the one that comes closest wins;
+3. how far it departs from the start (the sum of ``|log(key / start key)|``: the least change that holds).
+
+The tuned YAML is the robot YAML with the winner's keys; the report lists every candidate's runs, and says
+so when no candidate reaches the flight it plans.
 """
 
 from __future__ import annotations
@@ -31,7 +39,10 @@ from gaitshift.errors import InputError
 from gaitshift.robots.config import RobotConfig, load_robot
 from gaitshift.tuning.start import StartingGait, starting_gait
 
-__all__ = ["FLIGHT_FACTORS", "SCENARIOS", "STEP_TIME_SCALES", "Candidate", "candidates", "pick", "tune"]
+__all__ = [
+    "FLIGHT_FACTORS", "FLIGHT_REACHED", "SCENARIOS", "STEP_TIME_SCALES", "Candidate", "candidates", "flight_short",
+    "pick", "tune",
+]  # fmt: skip
 
 #: the G1 scenarios every candidate runs (scaled to the robot)
 SCENARIOS = ("g1-walk", "g1-run", "g1-walk-run-walk", "g1-tour")
@@ -39,6 +50,9 @@ SCENARIOS = ("g1-walk", "g1-run", "g1-walk-run-walk", "g1-tour")
 FLIGHT_FACTORS = (1.0, 0.5, 0.25)
 #: step time scales tried
 STEP_TIME_SCALES = (1.0, 0.75)
+#: the share of its planned flight a run must achieve for the candidate to reach its flight (issue 26's
+#: bar for the OP3's running)
+FLIGHT_REACHED = 0.7
 
 
 @dataclass(frozen=True)
@@ -73,13 +87,24 @@ def candidates(start: StartingGait) -> list[Candidate]:
     ]
 
 
+def flight_short(row: dict[str, Any]) -> float:
+    """How far a run's achieved flight falls short of :data:`FLIGHT_REACHED` of its planned one, a share of
+    the planned flight (0: reached, or no flight planned: ``flight_ratio`` None)."""
+    ratio = row.get("flight_ratio")
+    return 0.0 if ratio is None else max(0.0, FLIGHT_REACHED - float(ratio))
+
+
 def pick(rows: Sequence[dict[str, Any]], grid: Sequence[Candidate], start: StartingGait) -> Candidate:
-    """The candidate with the fewest falls over ``rows`` (campaign rows whose ``scenario`` names the
-    candidate's folder), the least change from ``start`` among those."""
+    """The candidate of the best score (module docstring) over ``rows`` (campaign rows whose ``scenario``
+    names the candidate's folder): the fewest falls, then the smallest flight shortfall, then the least
+    change from ``start``."""
     falls = {c.name: 0 for c in grid}
+    short = {c.name: 0.0 for c in grid}
     for r in rows:
-        falls[Path(r["scenario"]).parent.name] += int(bool(r["fell"])) + int(r.get("error") is not None)
-    return min(grid, key=lambda c: (falls[c.name], c.change(start)))
+        name = Path(r["scenario"]).parent.name
+        falls[name] += int(bool(r["fell"])) + int(r.get("error") is not None)
+        short[name] += flight_short(r)
+    return min(grid, key=lambda c: (falls[c.name], short[c.name], c.change(start)))
 
 
 def robot_yaml(text: str, keys: dict[str, float], base: Path) -> str:
