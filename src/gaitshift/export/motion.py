@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from gaitshift.common.atomic import atomic_path, check_suffix
-from gaitshift.errors import InputError
+from gaitshift.errors import InputError, check_choice
 from gaitshift.export.formats import FORMATS, ExportFormat, Frames
 from gaitshift.export.resample import resample
 from gaitshift.export.source import load_source
@@ -27,8 +27,7 @@ def check_request(fmt: str, fps: int | None, out: str | Path) -> tuple[ExportFor
         InputError: unknown format (``format``), a rate outside [1, MAX_FPS] (``fps``), or an output
             file without the format's suffix (``out``).
     """
-    if fmt not in FORMATS:
-        raise InputError("format", fmt, "one of " + ", ".join(FORMATS))
+    check_choice("format", fmt, FORMATS)
     spec = FORMATS[fmt]
     rate = spec.default_fps if fps is None else fps
     if isinstance(rate, bool) or not isinstance(rate, int) or not 1 <= rate <= MAX_FPS:

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from gaitshift.control.drivers import PlanDriver, prepare
-from gaitshift.errors import InputError, one_of
+from gaitshift.errors import check_choice
 from gaitshift.robots.config import RobotConfig
 from gaitshift.scenario.terrain import world_ground
 from gaitshift.sim.bumps import Bump
@@ -82,8 +82,7 @@ def options_of(plan: Trajectory, base: dict[str, Any], given: dict[str, Any]) ->
     names = {f.name for f in fields(SimOptions)}
     given = {k: v for k, v in given.items() if v is not None}
     for key in given:
-        if key not in names:
-            raise InputError("options", key, one_of(sorted(names)))
+        check_choice("options", key, sorted(names))
     if "pushes" in given:
         pushes: list[Push] = []
         for p in given["pushes"]:
